@@ -1,0 +1,8 @@
+# All dependencies come from Debian packages (scripts/install-deps installs them).
+
+find_package(Eigen3 3.3 REQUIRED NO_MODULE)
+find_package(OpenMesh REQUIRED)
+find_package(CLI11 REQUIRED)
+find_package(nlohmann_json 3 REQUIRED)
+include(OpenSubdiv)
+

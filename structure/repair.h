@@ -1,0 +1,49 @@
+#pragma once
+// Opt-in repairs for scanned meshes. Each repair is reported so nothing changes silently.
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "structure/polygon_soup.h"
+
+namespace mspline::structure {
+
+struct RepairOptions {
+  /// Merge vertices with bit-identical coordinates (before anything else).
+  bool mergeDuplicateVertices = false;
+  /// Remove faces with repeated vertices or (almost) zero area (ValidationOptions' tolerance).
+  bool removeDegenerateFaces = false;
+  /// Remove faces that use the same vertex set as an earlier face.
+  bool removeDuplicateFaces = false;
+  /// Split vertices whose faces form several fans (bow-ties) into one vertex per fan.
+  bool splitNonManifoldVertices = false;
+  /// Flip faces so that each component is consistently oriented, where that is possible.
+  bool orientConsistently = false;
+  /// Keep only the component with the most faces.
+  bool keepLargestComponent = false;
+  /// Drop vertices that no face references (runs last, after the other repairs).
+  bool dropUnreferencedVertices = false;
+  /// Tolerance for removeDegenerateFaces, as in ValidationOptions.
+  double degenerateTolerance = 1e-12;
+};
+
+/// What one repair changed.
+struct RepairAction {
+  /// The RepairOptions field's name in snake_case, e.g. "merge_duplicate_vertices".
+  std::string repair;
+  /// How many elements it changed (vertices merged, faces removed, vertices split, ...).
+  std::size_t count = 0;
+  /// One line for the user.
+  std::string message;
+};
+
+struct RepairResult {
+  /// The repaired soup (vertex and face indices are renumbered where elements were removed).
+  PolygonSoup soup;
+  /// One entry per requested repair, in the order they ran, also when it changed nothing.
+  std::vector<RepairAction> actions;
+};
+
+RepairResult repair(PolygonSoup soup, const RepairOptions& options);
+
+}  // namespace mspline::structure

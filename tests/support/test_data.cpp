@@ -1,0 +1,61 @@
+#include "support/test_data.h"
+
+#include <sys/wait.h>
+
+#include <catch2/catch.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace mspline::test {
+
+namespace fs = std::filesystem;
+
+std::string realMeshPath(const std::string& name) {
+  const char* env = std::getenv("MSPLINE_DATA_DIR");
+  fs::path dir = env ? fs::path(env) : fs::path(MSPLINE_SOURCE_DIR) / "data" / "meshes";
+  fs::path path = dir / name;
+  if (!fs::exists(path)) FAIL("real mesh " << path.string() << " is missing: run scripts/fetch-data");
+  return path.string();
+}
+
+std::string cliPath() { return MSPLINE_CLI_PATH; }
+
+std::string scratchDirectory(const std::string& testName) {
+  fs::path dir = fs::temp_directory_path() / "mspline-tests" / testName;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir.string();
+}
+
+static std::string slurp(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+CommandResult runCommand(const std::string& commandLine) {
+  fs::path dir = fs::temp_directory_path() / "mspline-tests" / "commands";
+  fs::create_directories(dir);
+  static int counter = 0;
+  std::string stem = (dir / std::to_string(::getpid())).string() + "-" + std::to_string(counter++);
+  std::string full = commandLine + " > " + stem + ".out 2> " + stem + ".err < /dev/null";
+  int status = std::system(full.c_str());
+  CommandResult result;
+  if (WIFEXITED(status)) {
+    result.exitCode = WEXITSTATUS(status);
+  } else {
+    result.exitCode = -1;
+  }
+  // The shell reports a child killed by a signal as 128 + signal.
+  if (result.exitCode > 128) result.exitCode = -1;
+  result.out = slurp(stem + ".out");
+  result.err = slurp(stem + ".err");
+  fs::remove(stem + ".out");
+  fs::remove(stem + ".err");
+  return result;
+}
+
+}  // namespace mspline::test

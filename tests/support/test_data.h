@@ -1,0 +1,25 @@
+#pragma once
+// Real meshes fetched by scripts/fetch-data into data/ (git-ignored).
+#include <string>
+
+namespace mspline::test {
+
+/// Absolute path of a fetched real mesh, e.g. realMeshPath("knot1.off"). Fails the current test
+/// with a message saying to run scripts/fetch-data when the file is missing.
+std::string realMeshPath(const std::string& name);
+
+/// The mspline command built with the tests.
+std::string cliPath();
+
+/// A fresh empty directory for one test's files (removed at the start of the next run).
+std::string scratchDirectory(const std::string& testName);
+
+/// Runs a shell command, capturing stdout and stderr; exit code -1 means it died by a signal.
+struct CommandResult {
+  int exitCode = 0;
+  std::string out;
+  std::string err;
+};
+CommandResult runCommand(const std::string& commandLine);
+
+}  // namespace mspline::test

@@ -1,0 +1,25 @@
+#pragma once
+// Meshes generated in code, shared by all tests. Every generator returns a clean manifold mesh
+// whose topology is stated in its comment; `resolution` scales the number of faces.
+#include "structure/tri_mesh.h"
+
+namespace mspline::test {
+
+using structure::TriMesh;
+
+/// Unit square [0,1]^2 in the z = 0 plane, n x n quads split into triangles. Disk: genus 0, 1 boundary.
+TriMesh gridDisk(int n);
+/// Annulus (radii 0.5 and 1) bent into a cylinder of height 1: genus 0, 2 boundaries.
+TriMesh cylinder(int around, int along);
+/// Torus with radii R = 1, r = 0.4: genus 1, closed.
+TriMesh torus(int major, int minor);
+/// Unit icosphere after `subdivisions` 1-to-4 splits (20 * 4^s faces): genus 0, closed.
+TriMesh icosphere(int subdivisions);
+/// Smooth closed genus-2 surface (a plate with two holes, rounded): genus 2, closed.
+TriMesh doubleTorus(int resolution);
+/// Closed surface of genus g >= 1 (a plate with g holes in a row, rounded).
+TriMesh genusSurface(int genus, int resolution);
+/// Disk with two holes: genus 0, 3 boundaries.
+TriMesh pairOfPants(int resolution);
+
+}  // namespace mspline::test
