@@ -2,6 +2,7 @@
 // Faces and positions exactly as a file stores them, before any manifold structure is imposed.
 // Readers produce a soup so that validation can see (and name) every defect of the input.
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -20,6 +21,10 @@ struct PolygonSoup {
   /// Where the soup came from, used in every message about it.
   std::string sourceName = "<memory>";
 };
+
+/// Splits every face with more than 3 vertices into a fan of triangles around its first
+/// vertex, splitting cornerUVs alike; returns how many faces were split.
+std::size_t triangulatePolygons(PolygonSoup& soup);
 
 /// Builds a TriMesh from a soup whose faces are triangles and which passed validation.
 /// Throws TopologyError naming the source and the face if OpenMesh cannot add a face.

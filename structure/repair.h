@@ -11,15 +11,17 @@ namespace mspline::structure {
 struct RepairOptions {
   /// Merge vertices with bit-identical coordinates (before anything else).
   bool mergeDuplicateVertices = false;
-  /// Remove faces with repeated vertices or (almost) zero area (ValidationOptions' tolerance).
+  /// Remove faces with repeated vertices, fewer than 3 vertices or (almost) zero area
+  /// (isDegenerateFace with degenerateTolerance).
   bool removeDegenerateFaces = false;
   /// Remove faces that use the same vertex set as an earlier face.
   bool removeDuplicateFaces = false;
   /// Split vertices whose faces form several fans (bow-ties) into one vertex per fan.
   bool splitNonManifoldVertices = false;
-  /// Flip faces so that each component is consistently oriented, where that is possible.
+  /// Flip faces so that each patch of faces connected through manifold edges agrees with its
+  /// first face; non-orientable patches are left as they are (the action's message says so).
   bool orientConsistently = false;
-  /// Keep only the component with the most faces.
+  /// Keep only the component (faces sharing vertices) with the most faces, the first on ties.
   bool keepLargestComponent = false;
   /// Drop vertices that no face references (runs last, after the other repairs).
   bool dropUnreferencedVertices = false;
@@ -44,6 +46,8 @@ struct RepairResult {
   std::vector<RepairAction> actions;
 };
 
+/// Runs the requested repairs in the order of RepairOptions' fields, keeping cornerUVs parallel.
+/// Throws InputError when a face uses an out-of-range vertex index (no repair can guess it).
 RepairResult repair(PolygonSoup soup, const RepairOptions& options);
 
 }  // namespace mspline::structure

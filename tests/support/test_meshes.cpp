@@ -1,1 +1,257 @@
 #include "support/test_meshes.h"
+
+#include <array>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "structure/errors.h"
+#include "structure/subdivide.h"
+
+namespace mspline::test {
+
+namespace {
+
+using Point = TriMesh::Point;
+using VH = TriMesh::VertexHandle;
+
+constexpr double kPi = 3.14159265358979323846;
+
+void requireAtLeast(int value, int minimum, const char* what) {
+  if (value < minimum)
+    throw structure::InputError(std::string(what) + " must be at least " + std::to_string(minimum) +
+                                ", got " + std::to_string(value));
+}
+
+void addFace(TriMesh& mesh, VH a, VH b, VH c) {
+  MSPLINE_ASSERT(mesh.add_face(a, b, c).is_valid(), "test mesh generator produced a non-manifold face");
+}
+
+/// Splits the quad a b c d (counter-clockwise) along the diagonal a-c.
+void addQuad(TriMesh& mesh, VH a, VH b, VH c, VH d) {
+  addFace(mesh, a, b, c);
+  addFace(mesh, a, c, d);
+}
+
+/// A 2D region made of unit "blocks" of resolution x resolution cells: a (2 * holes + 1) x 3 block
+/// rectangle with `holes` one-block square holes in its middle row, separated by one block of
+/// material. Holes never touch each other or the outer border, so no two cells meet only at a corner.
+struct PlateRegion {
+  int cellsX = 0, cellsY = 0;
+  std::vector<char> filled;  // indexed x + cellsX * y
+
+  PlateRegion(int holes, int resolution)
+      : cellsX((2 * holes + 1) * resolution), cellsY(3 * resolution),
+        filled(std::size_t(cellsX) * cellsY, 1) {
+    for (int k = 0; k < holes; ++k)
+      for (int y = resolution; y < 2 * resolution; ++y)
+        for (int x = (2 * k + 1) * resolution; x < (2 * k + 2) * resolution; ++x) filled[index(x, y)] = 0;
+  }
+  std::size_t index(int x, int y) const { return std::size_t(x) + std::size_t(cellsX) * y; }
+  bool isFilled(int x, int y) const {
+    return x >= 0 && y >= 0 && x < cellsX && y < cellsY && filled[index(x, y)];
+  }
+};
+
+/// Lattice-point -> vertex map on a (nx+1) x (ny+1) x (nz+1) grid, creating vertices on demand.
+class LatticeVertices {
+ public:
+  LatticeVertices(TriMesh& mesh, int nx, int ny, int nz, double spacing)
+      : mesh_(mesh), nx_(nx), ny_(ny), spacing_(spacing),
+        ids_(std::size_t(nx + 1) * (ny + 1) * (nz + 1), -1) {}
+  VH at(int x, int y, int z) {
+    int& id = ids_[std::size_t(x) + std::size_t(nx_ + 1) * (std::size_t(y) + std::size_t(ny_ + 1) * z)];
+    if (id < 0) id = mesh_.add_vertex(Point(x * spacing_, y * spacing_, z * spacing_)).idx();
+    return VH(id);
+  }
+
+ private:
+  TriMesh& mesh_;
+  int nx_, ny_;
+  double spacing_;
+  std::vector<int> ids_;
+};
+
+/// Taubin smoothing (alternating shrink and inflate steps of the uniform Laplacian): rounds sharp
+/// features without shrinking the shape overall. Boundary vertices stay fixed.
+void taubinSmooth(TriMesh& mesh, int iterations) {
+  std::vector<Point> next(mesh.n_vertices());
+  for (int it = 0; it < 2 * iterations; ++it) {
+    const double factor = (it % 2 == 0) ? 0.5 : -0.53;
+    for (const auto v : mesh.vertices()) {
+      Point sum(0, 0, 0);
+      int count = 0;
+      for (const auto w : mesh.vv_range(v)) {
+        sum += mesh.point(w);
+        ++count;
+      }
+      const Point& p = mesh.point(v);
+      next[v.idx()] = (mesh.is_boundary(v) || count == 0) ? p : p + factor * (sum / count - p);
+    }
+    for (const auto v : mesh.vertices()) mesh.set_point(v, next[v.idx()]);
+  }
+}
+
+void centre(TriMesh& mesh) {
+  Point lo = mesh.point(VH(0)), hi = lo;
+  for (const auto v : mesh.vertices()) {
+    lo.minimize(mesh.point(v));
+    hi.maximize(mesh.point(v));
+  }
+  const Point mid = 0.5 * (lo + hi);
+  for (const auto v : mesh.vertices()) mesh.set_point(v, mesh.point(v) - mid);
+}
+
+}  // namespace
+
+TriMesh gridDisk(int n) {
+  requireAtLeast(n, 1, "gridDisk: n");
+  TriMesh mesh;
+  mesh.reserve(std::size_t(n + 1) * (n + 1), 3 * std::size_t(n) * n + 2 * n, 2 * std::size_t(n) * n);
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) mesh.add_vertex(Point(double(i) / n, double(j) / n, 0));
+  const auto at = [n](int i, int j) { return VH(i + (n + 1) * j); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) addQuad(mesh, at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+  return mesh;
+}
+
+// The annulus 0.5 <= r <= 1 with its rings lifted linearly to z = (r - 0.5) * 2: a truncated cone
+// (open at both ends) whose normals point away from the axis. 2 * around * along faces.
+TriMesh cylinder(int around, int along) {
+  requireAtLeast(around, 3, "cylinder: around");
+  requireAtLeast(along, 1, "cylinder: along");
+  TriMesh mesh;
+  for (int j = 0; j <= along; ++j) {
+    const double t = double(j) / along;
+    const double radius = 0.5 + 0.5 * t;
+    for (int i = 0; i < around; ++i) {
+      const double phi = 2 * kPi * i / around;
+      mesh.add_vertex(Point(radius * std::cos(phi), radius * std::sin(phi), t));
+    }
+  }
+  const auto at = [around](int i, int j) { return VH(i % around + around * j); };
+  for (int j = 0; j < along; ++j)
+    for (int i = 0; i < around; ++i) addQuad(mesh, at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+  return mesh;
+}
+
+// 2 * major * minor faces.
+TriMesh torus(int major, int minor) {
+  requireAtLeast(major, 3, "torus: major");
+  requireAtLeast(minor, 3, "torus: minor");
+  const double R = 1.0, r = 0.4;
+  TriMesh mesh;
+  for (int j = 0; j < minor; ++j) {
+    const double theta = 2 * kPi * j / minor;
+    for (int i = 0; i < major; ++i) {
+      const double phi = 2 * kPi * i / major;
+      const double rho = R + r * std::cos(theta);
+      mesh.add_vertex(Point(rho * std::cos(phi), rho * std::sin(phi), r * std::sin(theta)));
+    }
+  }
+  const auto at = [major, minor](int i, int j) { return VH(i % major + major * (j % minor)); };
+  // Increasing phi then increasing theta: d/dphi x d/dtheta points out of the tube.
+  for (int j = 0; j < minor; ++j)
+    for (int i = 0; i < major; ++i) addQuad(mesh, at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+  return mesh;
+}
+
+TriMesh icosphere(int subdivisions) {
+  requireAtLeast(subdivisions, 0, "icosphere: subdivisions");
+  const double g = (1 + std::sqrt(5.0)) / 2;
+  const std::array<Point, 12> corners = {
+      Point(-1, g, 0), Point(1, g, 0), Point(-1, -g, 0), Point(1, -g, 0), Point(0, -1, g), Point(0, 1, g),
+      Point(0, -1, -g), Point(0, 1, -g), Point(g, 0, -1), Point(g, 0, 1), Point(-g, 0, -1), Point(-g, 0, 1)};
+  const int faces[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                            {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                            {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                            {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  TriMesh mesh;
+  for (const Point& p : corners) mesh.add_vertex(p.normalized());
+  for (const auto& f : faces) addFace(mesh, VH(f[0]), VH(f[1]), VH(f[2]));
+  for (const auto f : mesh.faces()) {
+    const auto h = mesh.halfedge_handle(f);
+    const Point a = mesh.point(mesh.from_vertex_handle(h));
+    const Point b = mesh.point(mesh.to_vertex_handle(h));
+    const Point c = mesh.point(mesh.to_vertex_handle(mesh.next_halfedge_handle(h)));
+    MSPLINE_ASSERT(OpenMesh::dot(OpenMesh::cross(b - a, c - a), a + b + c) > 0,
+                   "icosphere: base face not outward");
+  }
+  for (int s = 0; s < subdivisions; ++s) {
+    mesh = structure::subdivideMidpoint(mesh);
+    for (const auto v : mesh.vertices()) mesh.set_point(v, mesh.point(v).normalized());
+  }
+  return mesh;
+}
+
+TriMesh doubleTorus(int resolution) { return genusSurface(2, resolution); }
+
+// The boundary surface of the plate region extruded to a slab one block thick, built from the
+// voxel faces between filled and empty cells, then Taubin-smoothed. Coordinates: one block = 1,
+// centred at the origin. Faces: (36 g + 28) * resolution^2, e.g. genus 2: 400 at resolution 2,
+// 1600 at 4, 6400 at 8.
+TriMesh genusSurface(int genus, int resolution) {
+  requireAtLeast(genus, 1, "genusSurface: genus");
+  requireAtLeast(resolution, 1, "genusSurface: resolution");
+  const PlateRegion plate(genus, resolution);
+  const int nz = resolution;
+  const auto filled = [&](int x, int y, int z) { return z >= 0 && z < nz && plate.isFilled(x, y); };
+
+  TriMesh mesh;
+  LatticeVertices lattice(mesh, plate.cellsX, plate.cellsY, nz, 1.0 / resolution);
+  for (int z = 0; z < nz; ++z)
+    for (int y = 0; y < plate.cellsY; ++y)
+      for (int x = 0; x < plate.cellsX; ++x) {
+        if (!filled(x, y, z)) continue;
+        const std::array<int, 3> cell = {x, y, z};
+        for (int axis = 0; axis < 3; ++axis)
+          for (int side = 0; side < 2; ++side) {
+            std::array<int, 3> neighbour = cell;
+            neighbour[axis] += side == 0 ? -1 : 1;
+            if (filled(neighbour[0], neighbour[1], neighbour[2])) continue;
+            // Corners of the face in the plane of axes b, c with e_b x e_c = e_axis, so the
+            // order (0,0),(1,0),(1,1),(0,1) turns counter-clockwise around +axis.
+            const int b = (axis + 1) % 3, c = (axis + 2) % 3;
+            std::array<VH, 4> quad;
+            const int offsets[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+            for (int k = 0; k < 4; ++k) {
+              std::array<int, 3> corner = cell;
+              corner[axis] += side;
+              corner[b] += offsets[k][0];
+              corner[c] += offsets[k][1];
+              quad[k] = lattice.at(corner[0], corner[1], corner[2]);
+            }
+            if (side == 1)
+              addQuad(mesh, quad[0], quad[1], quad[2], quad[3]);
+            else
+              addQuad(mesh, quad[0], quad[3], quad[2], quad[1]);
+          }
+      }
+  taubinSmooth(mesh, 4 * resolution);
+  centre(mesh);
+  return mesh;
+}
+
+// The two-hole plate region in the z = 0 plane, lifted by a gentle bump. Coordinates: the region
+// spans [0,5] x [0,3]; normals point up. Faces: 26 * resolution^2 (104 at 2, 416 at 4, 1664 at 8).
+TriMesh pairOfPants(int resolution) {
+  requireAtLeast(resolution, 1, "pairOfPants: resolution");
+  const PlateRegion plate(2, resolution);
+  TriMesh mesh;
+  LatticeVertices lattice(mesh, plate.cellsX, plate.cellsY, 0, 1.0 / resolution);
+  for (int y = 0; y < plate.cellsY; ++y)
+    for (int x = 0; x < plate.cellsX; ++x)
+      if (plate.isFilled(x, y))
+        addQuad(mesh, lattice.at(x, y, 0), lattice.at(x + 1, y, 0), lattice.at(x + 1, y + 1, 0),
+                lattice.at(x, y + 1, 0));
+  const double width = plate.cellsX / double(resolution), height = plate.cellsY / double(resolution);
+  for (const auto v : mesh.vertices()) {
+    Point p = mesh.point(v);
+    p[2] = 0.3 * std::sin(kPi * p[0] / width) * std::sin(kPi * p[1] / height);
+    mesh.set_point(v, p);
+  }
+  return mesh;
+}
+
+}  // namespace mspline::test

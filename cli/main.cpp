@@ -1,0 +1,59 @@
+// mspline: the command-line entry point. Maps every failure to an exit code and one clear line.
+#include <iostream>
+#include <new>
+
+#include "cli/command.h"
+#include "structure/errors.h"
+
+namespace mspline::cli {
+
+void printJson(const Json& object) { std::cout << object.dump(2) << std::endl; }
+
+namespace {
+
+int reportError(const Command& command, const char* kind, const std::string& message, int code) {
+  std::cerr << "mspline " << command.name << ": error: " << message << std::endl;
+  if (command.json) printJson(Json{{"error", {{"kind", kind}, {"message", message}}}});
+  return code;
+}
+
+int runCommand(const Command& command) {
+  using namespace structure;
+  try {
+    return command.run();
+  } catch (const IoError& e) {
+    return reportError(command, "io", e.what(), kExitInvalidInput);
+  } catch (const TopologyError& e) {
+    return reportError(command, "topology", e.what(), kExitInvalidInput);
+  } catch (const InputError& e) {
+    return reportError(command, "input", e.what(), kExitInvalidInput);
+  } catch (const SolverError& e) {
+    return reportError(command, "solver", e.what(), kExitComputationFailed);
+  } catch (const std::bad_alloc&) {
+    return reportError(command, "memory", "out of memory", kExitComputationFailed);
+  } catch (const std::exception& e) {
+    return reportError(command, "internal", e.what(), kExitComputationFailed);
+  }
+}
+
+}  // namespace
+}  // namespace mspline::cli
+
+int main(int argc, char** argv) {
+  using namespace mspline::cli;
+  CLI::App app{
+      "mspline: manifold spline modeling on triangle meshes.\n"
+      "Exit codes: 0 success, 1 usage error, 2 invalid input, 3 computation failed."};
+  app.set_version_flag("--version", "mspline 0.1.0");
+  app.require_subcommand(1);
+  Command command;
+  addInfoCommand(app, command);
+  addRepairCommand(app, command);
+  addCutCommand(app, command);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? kExitSuccess : kExitUsage;
+  }
+  return runCommand(command);
+}

@@ -1,0 +1,21 @@
+#pragma once
+// JSON and text renderings of validation problems and repairs, shared by the mesh commands.
+#include <vector>
+
+#include "cli/command.h"
+#include "structure/repair.h"
+#include "structure/validate.h"
+
+namespace mspline::cli {
+
+Json problemsJson(const structure::ValidationReport& report);
+Json repairsJson(const std::vector<structure::RepairAction>& actions);
+
+/// Prints warnings and repair actions on stderr (progress-style information, not results).
+void printNotes(const std::vector<std::string>& warnings,
+                const std::vector<structure::RepairAction>& actions);
+
+/// Adds the repair flags (--merge-duplicate-vertices, ..., --all) to a subcommand.
+void addRepairFlags(CLI::App& sub, structure::RepairOptions& options);
+
+}  // namespace mspline::cli

@@ -1,0 +1,58 @@
+#include "io/load_mesh.h"
+
+#include <algorithm>
+#include <array>
+
+#include "io/read_mesh.h"
+#include "structure/errors.h"
+
+namespace mspline::io {
+
+namespace {
+
+bool anyRepairRequested(const structure::RepairOptions& r) {
+  return r.mergeDuplicateVertices || r.removeDegenerateFaces || r.removeDuplicateFaces ||
+         r.splitNonManifoldVertices || r.orientConsistently || r.keepLargestComponent ||
+         r.dropUnreferencedVertices;
+}
+
+// Problems after which OpenMesh cannot represent the faces; the others (several components,
+// unreferenced vertices, thin faces) still leave a mesh whose topology can be reported.
+bool structureAllowsMesh(const structure::ValidationReport& report) {
+  static const std::array<const char*, 7> blocking = {
+      "empty_mesh",         "face_index_out_of_range",  "too_few_face_vertices",
+      "non_manifold_edge",  "non_manifold_vertex",      "inconsistent_orientation",
+      "duplicate_face"};
+  return std::none_of(report.problems.begin(), report.problems.end(), [](const auto& problem) {
+    return std::find(blocking.begin(), blocking.end(), problem.kind) != blocking.end();
+  });
+}
+
+}  // namespace
+
+LoadedMesh loadMesh(const std::string& path, const LoadOptions& options) {
+  MeshReadResult read = readMesh(path);
+  LoadedMesh loaded;
+  loaded.warnings = std::move(read.warnings);
+  if (anyRepairRequested(options.repair)) {
+    structure::RepairResult repaired = structure::repair(std::move(read.soup), options.repair);
+    loaded.soup = std::move(repaired.soup);
+    loaded.repairs = std::move(repaired.actions);
+  } else {
+    loaded.soup = std::move(read.soup);
+  }
+  loaded.validation = structure::validate(loaded.soup);
+  if (options.requireValid && !loaded.validation.ok())
+    throw structure::InputError(loaded.validation.summary());
+  if (structureAllowsMesh(loaded.validation)) {
+    try {
+      loaded.mesh = structure::toTriMesh(loaded.soup);
+    } catch (const structure::TopologyError&) {
+      // Validation already names the defect; the caller reports it.
+      if (loaded.validation.ok()) throw;
+    }
+  }
+  return loaded;
+}
+
+}  // namespace mspline::io

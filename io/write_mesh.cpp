@@ -1,0 +1,79 @@
+#include "io/write_mesh.h"
+
+#include "io/atomic_file.h"
+#include "io/obj_format.h"
+#include "io/off_format.h"
+#include "io/ply_format.h"
+#include "io/read_mesh.h"
+#include "io/stl_format.h"
+#include "structure/errors.h"
+
+namespace mspline::io {
+
+namespace {
+
+// Out-of-range indices would be written as-is and read back as different faces (in OBJ a
+// negative index is even relative), so they are refused.
+void checkIndices(const std::string& path, const structure::PolygonSoup& soup) {
+  auto vertexCount = static_cast<std::int64_t>(soup.positions.size());
+  for (std::size_t f = 0; f < soup.faces.size(); ++f) {
+    for (std::int64_t index : soup.faces[f]) {
+      if (index < 0 || index >= vertexCount)
+        throw structure::InputError("cannot write '" + path + "': face " + std::to_string(f) +
+                                    " refers to vertex " + std::to_string(index) + ", but " +
+                                    soup.sourceName + " has " + std::to_string(vertexCount) +
+                                    " vertices");
+    }
+  }
+}
+
+void checkCornerUVs(const std::string& path, const structure::PolygonSoup& soup) {
+  bool parallel = soup.cornerUVs.size() == soup.faces.size();
+  for (std::size_t f = 0; parallel && f < soup.faces.size(); ++f)
+    parallel = soup.cornerUVs[f].size() == soup.faces[f].size();
+  if (!parallel)
+    throw structure::InputError("cannot write '" + path + "': the texture coordinates of " +
+                                soup.sourceName + " do not match its faces corner for corner");
+}
+
+void writeFormat(std::ostream& out, MeshFormat format, const structure::PolygonSoup& soup,
+                 bool withUVs, bool binary) {
+  switch (format) {
+    case MeshFormat::Obj:
+      detail::writeObj(out, soup, withUVs);
+      break;
+    case MeshFormat::Off:
+      detail::writeOff(out, soup);
+      break;
+    case MeshFormat::Ply:
+      detail::writePly(out, soup, binary);
+      break;
+    case MeshFormat::Stl:
+      detail::writeStl(out, soup);
+      break;
+  }
+}
+
+}  // namespace
+
+void writeMesh(const std::string& path, const structure::PolygonSoup& soup,
+               const MeshWriteOptions& options) {
+  MeshFormat format = meshFormatFromPath(path);
+  checkIndices(path, soup);
+  bool withUVs = format == MeshFormat::Obj && options.writeUVs && !soup.cornerUVs.empty();
+  if (withUVs) checkCornerUVs(path, soup);
+  writeFileAtomically(path, [&](std::ostream& out) {
+    try {
+      writeFormat(out, format, soup, withUVs, options.binary);
+    } catch (const structure::InputError& error) {
+      throw structure::InputError("cannot write '" + path + "': " + error.what());
+    }
+  });
+}
+
+void writeMesh(const std::string& path, const structure::TriMesh& mesh,
+               const MeshWriteOptions& options) {
+  writeMesh(path, structure::toSoup(mesh, path), options);
+}
+
+}  // namespace mspline::io

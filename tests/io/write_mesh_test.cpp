@@ -1,0 +1,182 @@
+#include "io/write_mesh.h"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include "io/read_mesh.h"
+#include "structure/errors.h"
+#include "support/test_data.h"
+#include "support/test_meshes.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using mspline::io::MeshWriteOptions;
+using mspline::io::readMesh;
+using mspline::io::writeMesh;
+using mspline::structure::PolygonSoup;
+using Face = std::vector<std::int64_t>;
+using UVs = std::vector<std::array<double, 2>>;
+
+// Doubles that only survive with shortest-round-trip (or 17-digit) output.
+PolygonSoup awkwardSoup() {
+  PolygonSoup soup;
+  soup.positions = {{0.1, 1.0 / 3.0, -0.0},
+                    {std::acos(-1.0), 1e-300, -1e300},
+                    {std::numeric_limits<double>::denorm_min(), 2.0 / 3.0, 123456789.123456789},
+                    {-std::numeric_limits<double>::max(), std::nextafter(1.0, 2.0), 7}};
+  soup.faces = {{0, 1, 2}, {0, 2, 3}, {1, 3, 2}};
+  return soup;
+}
+
+bool bitIdentical(const std::vector<std::array<double, 3>>& a,
+                  const std::vector<std::array<double, 3>>& b) {
+  return a.size() == b.size() &&
+         std::memcmp(a.data(), b.data(), a.size() * sizeof(std::array<double, 3>)) == 0;
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+}  // namespace
+
+TEST_CASE("write_mesh: OBJ, OFF and PLY round trips are bit-exact", "[io]") {
+  std::string dir = mspline::test::scratchDirectory("write_mesh_round_trip");
+  PolygonSoup soup = awkwardSoup();
+  struct Variant {
+    std::string name;
+    MeshWriteOptions options;
+  };
+  MeshWriteOptions ascii;
+  ascii.binary = false;
+  for (const Variant& v : {Variant{"m.obj", {}}, Variant{"m.off", {}}, Variant{"m.ply", {}},
+                           Variant{"ascii.ply", ascii}}) {
+    CAPTURE(v.name);
+    std::string path = dir + "/" + v.name;
+    writeMesh(path, soup, v.options);
+    auto back = readMesh(path);
+    CHECK(bitIdentical(back.soup.positions, soup.positions));
+    CHECK(back.soup.faces == soup.faces);
+    CHECK(back.warnings.empty());
+  }
+  CHECK(slurp(dir + "/m.ply").find("format binary_little_endian 1.0") != std::string::npos);
+  CHECK(slurp(dir + "/ascii.ply").find("format ascii 1.0") != std::string::npos);
+}
+
+TEST_CASE("write_mesh: non-finite coordinates survive text formats", "[io]") {
+  std::string dir = mspline::test::scratchDirectory("write_mesh_non_finite");
+  PolygonSoup soup;
+  soup.positions = {{std::nan(""), HUGE_VAL, -HUGE_VAL}, {0, 0, 0}, {1, 0, 0}};
+  soup.faces = {{0, 1, 2}};
+  for (const char* name : {"nan.off", "nan.obj"}) {
+    std::string path = dir + "/" + name;
+    writeMesh(path, soup);
+    auto back = readMesh(path).soup;
+    CHECK(std::isnan(back.positions[0][0]));
+    CHECK(back.positions[0][1] == HUGE_VAL);
+    CHECK(back.positions[0][2] == -HUGE_VAL);
+  }
+}
+
+TEST_CASE("write_mesh: OBJ writes per-corner UVs when asked", "[io]") {
+  std::string dir = mspline::test::scratchDirectory("write_mesh_uvs");
+  PolygonSoup soup = awkwardSoup();
+  soup.cornerUVs = {{{0, 0}, {0.1, 0.2}, {1.0 / 3.0, 1}},
+                    {{0, 0}, {1.0 / 3.0, 1}, {0.5, 0.5}},
+                    {{0.7, 0.7}, {0.9, 0.1}, {1e-20, 1}}};
+  std::string path = dir + "/uv.obj";
+  writeMesh(path, soup);
+  auto back = readMesh(path);
+  CHECK(bitIdentical(back.soup.positions, soup.positions));
+  CHECK(back.soup.faces == soup.faces);
+  CHECK(back.soup.cornerUVs == soup.cornerUVs);
+
+  MeshWriteOptions noUVs;
+  noUVs.writeUVs = false;
+  writeMesh(path, soup, noUVs);
+  CHECK(slurp(path).find("vt") == std::string::npos);
+  CHECK(readMesh(path).soup.cornerUVs.empty());
+
+  soup.cornerUVs.pop_back();
+  CHECK_THROWS_AS(writeMesh(dir + "/mismatch.obj", soup), mspline::structure::InputError);
+  CHECK(!fs::exists(dir + "/mismatch.obj"));
+}
+
+TEST_CASE("write_mesh: binary STL rounds positions to float", "[io]") {
+  std::string dir = mspline::test::scratchDirectory("write_mesh_stl");
+  PolygonSoup soup = awkwardSoup();
+  soup.positions[0] = {0.1, 0.2, 0.3};
+  soup.positions[3] = {1, 2, 3};
+  std::string path = dir + "/m.stl";
+  writeMesh(path, soup);
+  CHECK(fs::file_size(path) == 84 + 50 * soup.faces.size());
+  CHECK(slurp(path).compare(0, 5, "solid") != 0);
+  auto back = readMesh(path).soup;
+  REQUIRE(back.faces.size() == soup.faces.size());
+  CHECK(back.positions.size() == soup.positions.size());  // shared corners merged again
+  for (std::size_t f = 0; f < soup.faces.size(); ++f) {
+    for (std::size_t k = 0; k < 3; ++k) {
+      const auto& written = soup.positions[static_cast<std::size_t>(soup.faces[f][k])];
+      const auto& read = back.positions[static_cast<std::size_t>(back.faces[f][k])];
+      for (int c = 0; c < 3; ++c) CHECK(read[c] == static_cast<float>(written[c]));
+    }
+  }
+
+  PolygonSoup quad;
+  quad.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  quad.faces = {{0, 1, 2, 3}};
+  CHECK_THROWS_WITH(writeMesh(dir + "/quad.stl", quad),
+                    Catch::Contains("quad.stl") && Catch::Contains("triangles only"));
+  CHECK(!fs::exists(dir + "/quad.stl"));
+}
+
+TEST_CASE("write_mesh: a TriMesh round-trips through every format", "[io]") {
+  std::string dir = mspline::test::scratchDirectory("write_mesh_trimesh");
+  auto mesh = mspline::test::torus(24, 12);
+  for (const char* name : {"torus.obj", "torus.off", "torus.ply", "torus.stl"}) {
+    CAPTURE(name);
+    std::string path = dir + "/" + name;
+    writeMesh(path, mesh);
+    auto back = mspline::structure::toTriMesh(readMesh(path).soup);
+    REQUIRE(back.n_vertices() == mesh.n_vertices());
+    REQUIRE(back.n_faces() == mesh.n_faces());
+    bool stl = std::string(name) == "torus.stl";
+    // STL renumbers vertices in order of first use; the others keep the order.
+    for (auto f : mesh.faces()) {
+      auto original = mesh.fv_range(f).begin();
+      for (auto v : back.fv_range(back.face_handle(f.idx()))) {
+        auto expected = mesh.point(*original++);
+        for (int c = 0; c < 3; ++c) {
+          if (stl) {
+            CHECK(back.point(v)[c] == static_cast<float>(expected[c]));
+          } else {
+            CHECK(back.point(v)[c] == expected[c]);
+          }
+        }
+      }
+    }
+  }
+}
+
+TEST_CASE("write_mesh: refusals leave nothing behind", "[io]") {
+  std::string dir = mspline::test::scratchDirectory("write_mesh_refusals");
+  PolygonSoup soup = awkwardSoup();
+  soup.faces.push_back({0, 1, 4});
+  CHECK_THROWS_AS(writeMesh(dir + "/bad.off", soup), mspline::structure::InputError);
+  CHECK_THROWS_WITH(writeMesh(dir + "/bad.off", soup),
+                    Catch::Contains("bad.off") && Catch::Contains("face 3"));
+  CHECK_THROWS_AS(writeMesh(dir + "/m.xyz", awkwardSoup()), mspline::structure::InputError);
+  CHECK_THROWS_AS(writeMesh(dir + "/missing/m.off", awkwardSoup()), mspline::structure::IoError);
+  CHECK_THROWS_WITH(writeMesh(dir + "/missing/m.off", awkwardSoup()),
+                    Catch::Contains(dir + "/missing/m.off"));
+  CHECK(fs::is_empty(dir));
+}
