@@ -1,8 +1,11 @@
 #include "structure/cut_along_edges.h"
 
+#include <cstdint>
 #include <numeric>
+#include <string>
 
 #include "structure/errors.h"
+#include "structure/polygon_soup.h"
 
 namespace mspline::structure {
 
@@ -29,26 +32,33 @@ CutMesh cutAlongEdges(const TriMesh& surface, const std::vector<int>& cutEdges) 
     unite(surface.prev_halfedge_handle(h0), h1);
   }
 
-  CutMesh result;
+  // The copies and faces go through a soup; toTriMesh keeps the face order.
+  PolygonSoup soup;
+  std::vector<int> sourceVertex;
   std::vector<int> copyOf(surface.n_halfedges(), -1);
   for (auto v : surface.vertices()) {
     for (auto h : surface.vih_range(v)) {
       if (surface.is_boundary(h)) continue;
       const int r = find(h.idx());
       if (copyOf[r] != -1) continue;
-      copyOf[r] = static_cast<int>(result.sourceVertex.size());
-      result.sourceVertex.push_back(v.idx());
-      result.mesh.add_vertex(surface.point(v));
+      copyOf[r] = static_cast<int>(sourceVertex.size());
+      sourceVertex.push_back(v.idx());
+      const auto& p = surface.point(v);
+      soup.positions.push_back({p[0], p[1], p[2]});
     }
   }
   for (auto f : surface.faces()) {
-    std::vector<TriMesh::VertexHandle> corners;
-    for (auto h : surface.fh_range(f)) corners.emplace_back(copyOf[find(h.idx())]);
-    const auto added = result.mesh.add_face(corners);
-    MSPLINE_ASSERT(added.is_valid() && added.idx() == f.idx(),
-                   "cutting produced a face OpenMesh cannot add (face " + std::to_string(f.idx()) + ")");
+    std::vector<std::int64_t> corners;
+    for (auto h : surface.fh_range(f)) corners.push_back(copyOf[find(h.idx())]);
+    soup.faces.push_back(std::move(corners));
   }
-  return result;
+  try {
+    CutMesh result{toTriMesh(soup), std::move(sourceVertex)};
+    return result;
+  } catch (const TopologyError& error) {
+    throw InternalError(std::string("cutting produced a mesh OpenMesh cannot hold: ") +
+                        error.what());
+  }
 }
 
 }  // namespace mspline::structure

@@ -10,7 +10,8 @@ CutGraph computeCutGraph(const TriMesh& mesh, const HomotopyBasis& basis) {
   std::vector<char> cut(mesh.n_edges(), 0);
   auto mark = [&](const std::vector<int>& path) {
     for (std::size_t k = 0; k + 1 < path.size(); ++k) {
-      const auto h = mesh.find_halfedge(TriMesh::VertexHandle(path[k]), TriMesh::VertexHandle(path[k + 1]));
+      const auto h =
+          mesh.find_halfedge(TriMesh::VertexHandle(path[k]), TriMesh::VertexHandle(path[k + 1]));
       MSPLINE_ASSERT(h.is_valid(), "path vertices are not adjacent");
       cut[mesh.edge_handle(h).idx()] = 1;
     }

@@ -24,7 +24,9 @@ namespace {
 using VH = TriMesh::VertexHandle;
 using VertexPair = std::pair<int, int>;
 
-VertexPair key(int a, int b) { return a < b ? VertexPair{a, b} : VertexPair{b, a}; }
+VertexPair key(int a, int b) {
+  return a < b ? VertexPair{a, b} : VertexPair{b, a};
+}
 
 int edgeBetween(const TriMesh& mesh, int a, int b) {
   const auto h = mesh.find_halfedge(VH(a), VH(b));
@@ -33,7 +35,8 @@ int edgeBetween(const TriMesh& mesh, int a, int b) {
   return mesh.edge_handle(h).idx();
 }
 
-/// Splits edge (a, b) at its midpoint (both incident triangles split in two); returns the new vertex.
+/// Splits edge (a, b) at its midpoint (both incident triangles split in two); returns the new
+/// vertex.
 int splitEdge(TriMesh& mesh, int a, int b) {
   const auto point = 0.5 * (mesh.point(VH(a)) + mesh.point(VH(b)));
   const auto midpoint = mesh.add_vertex(point);
@@ -145,7 +148,6 @@ std::vector<int> segmentVertices(const OpenedSurface& opened, std::size_t k) {
 OpenedSurface openSurface(const TriMesh& surface, std::vector<int> cutEdges) {
   std::sort(cutEdges.begin(), cutEdges.end());
   cutEdges.erase(std::unique(cutEdges.begin(), cutEdges.end()), cutEdges.end());
-  // Built in place: assigning OpenMesh meshes trips GCC's -Wmaybe-uninitialized in OpenMesh.
   OpenedSurface opened{cutAlongEdges(surface, cutEdges), cutEdges, {}, {}};
 
   std::vector<int> degree(surface.n_vertices(), 0);
@@ -240,14 +242,24 @@ struct Work {
   int refinements = 0;
   int edgeSplits = 0;
   int maxRefinements = 0;
+  std::size_t maxVertices = 0;
 };
+
+/// Throws TopologyError once the surface has grown past the budget.
+void checkGrowth(const Work& work) {
+  if (work.surface->n_vertices() <= work.maxVertices) return;
+  throw TopologyError("the one-vertex system of loops needs more than " +
+                      std::to_string(work.maxVertices) +
+                      " vertices on this mesh (genus too high for its resolution); raise "
+                      "CutOptions::maxGrowth or cut with oneVertexSchema off");
+}
 
 void refine(Work& work, std::vector<std::vector<int>>& paths) {
   if (work.refinements >= work.maxRefinements)
-    throw TopologyError("the mesh is too coarse for a one-vertex system of loops even after " +
+    throw TopologyError("the mesh is too coarse to cut into a disk as asked even after " +
                         std::to_string(work.refinements) +
-                        " midpoint refinements; raise CutOptions::maxRefinements or cut with "
-                        "oneVertexSchema off");
+                        " midpoint refinements; raise CutOptions::maxRefinements (or, for the "
+                        "one-vertex schema, turn oneVertexSchema off)");
   for (auto& path : paths) path = refinePath(*work.surface, path);
   work.surface = std::make_unique<TriMesh>(subdivideMidpoint(*work.surface));
   ++work.refinements;
@@ -319,6 +331,30 @@ LoopSystem buildLoopSystem(Work& work, const HomotopyBasis& basis) {
       }
   }
 
+  // Route in the order the sinks appear around the disk the cut graph leaves: each new path then
+  // runs beside the previous one instead of threading between two earlier paths, which would
+  // make it (and the splits opening its contacts) as long as both together.
+  std::vector<std::size_t> order;
+  {
+    const TriMesh& mesh = *work.surface;
+    const OpenedSurface opened = openSurface(mesh, edgesOfPaths(mesh, basisLoops));
+    std::map<int, std::size_t> sinkIndex;
+    for (std::size_t k = 0; k < sinks.size(); ++k) sinkIndex[sinks[k]] = k;
+    std::vector<char> placed(sinks.size(), 0);
+    const TriMesh& disk = opened.cut.mesh;
+    for (int corner : opened.boundaryLoop) {
+      const int m = opened.cut.sourceVertex[corner];
+      for (auto w : disk.vv_range(VH(corner))) {
+        const auto found = sinkIndex.find(opened.cut.sourceVertex[w.idx()]);
+        if (found == sinkIndex.end() || placed[found->second] || midpoints[found->second / 2] != m)
+          continue;
+        placed[found->second] = 1;
+        order.push_back(found->second);
+      }
+    }
+    MSPLINE_ASSERT(order.size() == sinks.size(), "a sink is not beside its crossing");
+  }
+
   // The common vertex: as far from the cut graph as possible.
   int center = -1;
   {
@@ -342,6 +378,7 @@ LoopSystem buildLoopSystem(Work& work, const HomotopyBasis& basis) {
   // the vertex graph cannot enter, so such contacts are split open (new points on old edges: the
   // geometry does not change). Refinement remains as a fallback should a route still fail.
   std::vector<std::vector<int>> paths;
+  bool everywhere = true;
   for (;;) {
     TriMesh& mesh = *work.surface;
     std::vector<char> walled(mesh.n_vertices(), 0);
@@ -359,11 +396,13 @@ LoopSystem buildLoopSystem(Work& work, const HomotopyBasis& basis) {
       wallEdges.insert(key(sinks[k], midpoints[k / 2]));
     }
     walled[center] = 0;
-    // Split contacts at the newest path's vertices (at all walled vertices before the first).
+    // Split contacts at the newest path's vertices (everywhere at the start and after a
+    // refinement).
     std::vector<int> around;
-    if (paths.empty()) {
+    if (everywhere) {
       for (auto v : mesh.vertices())
         if (walled[v.idx()]) around.push_back(v.idx());
+      everywhere = false;
     } else {
       around.assign(paths.back().begin() + 1, paths.back().end());
     }
@@ -379,11 +418,14 @@ LoopSystem buildLoopSystem(Work& work, const HomotopyBasis& basis) {
       ++work.edgeSplits;
     }
     if (paths.size() == sinks.size()) break;
+    checkGrowth(work);
 
     walled.resize(mesh.n_vertices(), 0);
-    const int target = sinks[paths.size()];
+    const int target = sinks[order[paths.size()]];
     walled[target] = 0;
-    const std::vector<int> pending(sinks.begin() + static_cast<long>(paths.size()) + 1, sinks.end());
+    std::vector<int> pending;
+    for (std::size_t k = paths.size() + 1; k < order.size(); ++k)
+      pending.push_back(sinks[order[k]]);
     std::vector<int> path = routeToCenter(mesh, center, target, walled, pending);
     if (!path.empty()) {
       paths.push_back(std::move(path));
@@ -400,16 +442,20 @@ LoopSystem buildLoopSystem(Work& work, const HomotopyBasis& basis) {
     refine(work, carried);
     basisLoops.assign(carried.begin(), carried.begin() + loopCount);
     paths.assign(carried.begin() + loopCount, carried.end());
-    for (std::size_t k = 0; k < paths.size(); ++k) paths[k].push_back(nextSinks[k]);
+    for (std::size_t k = 0; k < paths.size(); ++k) paths[k].push_back(nextSinks[order[k]]);
     sinks = nextSinks;
+    everywhere = true;
   }
 
+  std::vector<std::size_t> pathOfSink(sinks.size());
+  for (std::size_t k = 0; k < order.size(); ++k) pathOfSink[order[k]] = k;
   LoopSystem system;
   system.center = center;
   for (int i = 0; i < loopCount; ++i) {
-    std::vector<int> loop = paths[2 * i];
+    std::vector<int> loop = paths[pathOfSink[2 * i]];
+    const auto& back = paths[pathOfSink[2 * i + 1]];
     loop.push_back(midpoints[i]);
-    loop.insert(loop.end(), paths[2 * i + 1].rbegin(), paths[2 * i + 1].rend());
+    loop.insert(loop.end(), back.rbegin(), back.rend());
     system.loops.push_back(std::move(loop));
   }
   return system;
@@ -447,13 +493,39 @@ long canonicalRotation(const LoopWord& word) {
 /// re-cutting, whereas positions on the boundary do not.
 using Corner = std::pair<int, int>;
 
-Corner cornerAt(const LoopWord& word, std::size_t k) { return {word.loop[k], word.sign[k]}; }
+Corner cornerAt(const LoopWord& word, std::size_t k) {
+  return {word.loop[k], word.sign[k]};
+}
 
 /// Replaces loop `eliminated` by a new loop from corner `from` to corner `to` through the
 /// interior of the disk (a cut-and-paste of the polygon: cut along the new diagonal, glue the two
 /// pieces back along the eliminated loop).
 void replaceLoop(Work& work, LoopSystem& system, Corner from, Corner to, int eliminated) {
   for (;;) {
+    checkGrowth(work);
+    // Split the chords of the disk (edges joining two loop vertices that no loop runs along):
+    // each separates the disk's inner vertices, and without them the inner vertices are
+    // connected and every corner has an inner neighbour. New points lie on old edges.
+    {
+      TriMesh& mesh = *work.surface;
+      std::vector<char> onLoop(mesh.n_vertices(), 0);
+      std::set<VertexPair> loopEdges;
+      for (const auto& loop : system.loops)
+        for (std::size_t k = 0; k < loop.size(); ++k) {
+          onLoop[loop[k]] = 1;
+          if (k + 1 < loop.size()) loopEdges.insert(key(loop[k], loop[k + 1]));
+        }
+      std::vector<VertexPair> chords;
+      for (auto e : mesh.edges()) {
+        const auto h = mesh.halfedge_handle(e, 0);
+        const int x = mesh.from_vertex_handle(h).idx(), y = mesh.to_vertex_handle(h).idx();
+        if (onLoop[x] && onLoop[y] && !loopEdges.count(key(x, y))) chords.push_back({x, y});
+      }
+      for (const auto& [x, y] : chords) {
+        splitEdge(mesh, x, y);
+        ++work.edgeSplits;
+      }
+    }
     const OpenedSurface opened = openAlongLoops(*work.surface, system);
     const LoopWord word = readLoopWord(*work.surface, system, opened);
     const TriMesh& disk = opened.cut.mesh;
@@ -463,33 +535,17 @@ void replaceLoop(Work& work, LoopSystem& system, Corner from, Corner to, int eli
       if (cornerAt(word, k) == to) cornerVertex[1] = opened.boundaryLoop[opened.segmentBegins[k]];
     }
     MSPLINE_ASSERT(cornerVertex[0] != -1 && cornerVertex[1] != -1, "lost a corner of the disk");
-    // Interior disk vertices next to each corner; a corner with none gets one by splitting the
-    // edges opposite to it (those are between two different loops, so off the cut).
     std::vector<int> near[2];
-    bool split = false;
-    for (int side = 0; side < 2; ++side) {
+    for (int side = 0; side < 2; ++side)
       for (auto w : disk.vv_range(VH(cornerVertex[side])))
         if (!disk.is_boundary(w)) near[side].push_back(w.idx());
-      if (!near[side].empty()) continue;
-      std::vector<VertexPair> opposite;
-      for (auto h : disk.voh_range(VH(cornerVertex[side]))) {
-        if (disk.is_boundary(h)) continue;
-        const auto far = disk.next_halfedge_handle(h);
-        const int x = opened.cut.sourceVertex[disk.from_vertex_handle(far).idx()];
-        const int y = opened.cut.sourceVertex[disk.to_vertex_handle(far).idx()];
-        if (!std::binary_search(opened.cutEdges.begin(), opened.cutEdges.end(),
-                                edgeBetween(*work.surface, x, y)))
-          opposite.push_back({x, y});
-      }
-      for (const auto& [x, y] : opposite) {
-        splitEdge(*work.surface, x, y);
-        ++work.edgeSplits;
-        split = true;
-      }
-    }
-    if (split) continue;
 
-    // Shortest path (by length) through interior disk vertices between the two corner fans.
+    // Shortest path through inner disk vertices between the two corner fans; vertices next to
+    // the boundary cost four times their length, so the new loop keeps off the old ones where it
+    // can (each contact becomes a chord to split next time).
+    std::vector<double> factor(disk.n_vertices(), 1.0);
+    for (int v : opened.boundaryLoop)
+      for (auto w : disk.vv_range(VH(v))) factor[w.idx()] = 4.0;
     std::vector<double> dist(disk.n_vertices(), std::numeric_limits<double>::infinity());
     std::vector<int> previous(disk.n_vertices(), -1);
     std::vector<char> target(disk.n_vertices(), 0);
@@ -512,7 +568,7 @@ void replaceLoop(Work& work, LoopSystem& system, Corner from, Corner to, int eli
       for (auto h : disk.voh_range(VH(v))) {
         const int w = disk.to_vertex_handle(h).idx();
         if (disk.is_boundary(VH(w))) continue;
-        const double nd = d + disk.calc_edge_length(h);
+        const double nd = d + disk.calc_edge_length(h) * factor[w];
         if (nd < dist[w]) {
           dist[w] = nd;
           previous[w] = v;
@@ -521,7 +577,7 @@ void replaceLoop(Work& work, LoopSystem& system, Corner from, Corner to, int eli
       }
     }
     if (reached == -1) {
-      // The disk's interior is pinched between the corners: refine and try again.
+      // Without chords this does not happen; refining is the fallback should it still.
       refine(work, system.loops);
       continue;
     }
@@ -542,11 +598,13 @@ LoopWord currentWord(const Work& work, const LoopSystem& system) {
 /// Brings the one-vertex system to canonical form. For an interleaved pair x A y B x^-1 C y^-1 D
 /// (read from the corner before x) two cut-and-paste moves give A D w^-1 z^-1 w z C B, which adds
 /// the canonical block w^-1 z^-1 w z and keeps A..D (hence the blocks already made) intact.
-bool canonicalize(Work& work, LoopSystem& system) {
+/// Gives up, leaving a one-vertex but non-canonical system, should a round add no block.
+void canonicalize(Work& work, LoopSystem& system) {
   const std::size_t n = 2 * system.loops.size();
   for (std::size_t round = 0; round <= system.loops.size(); ++round) {
+    checkGrowth(work);
     LoopWord word = currentWord(work, system);
-    if (canonicalRotation(word) != -1) return true;
+    if (canonicalRotation(word) != -1) return;
     const auto blocks = canonicalBlocks(word);
     std::vector<char> done(system.loops.size(), 0);
     for (std::size_t r : blocks) done[word.loop[r]] = done[word.loop[(r + 1) % n]] = 1;
@@ -567,7 +625,7 @@ bool canonicalize(Work& work, LoopSystem& system) {
         i2 = b % n;
       }
     }
-    if (y == -1) return false;
+    if (y == -1) return;
     const int x = word.loop[i1];
     const std::size_t blocksBefore = blocks.size();
 
@@ -583,12 +641,13 @@ bool canonicalize(Work& work, LoopSystem& system) {
     replaceLoop(work, system, cornerAt(word, zNegative), cornerAt(word, zPositive), x);
 
     word = currentWord(work, system);
-    if (canonicalBlocks(word).size() <= blocksBefore) return canonicalRotation(word) != -1;
+    if (canonicalBlocks(word).size() <= blocksBefore) return;
   }
-  return false;
 }
 
-std::string curveName(char letter, int number) { return letter + std::to_string(number); }
+std::string curveName(char letter, int number) {
+  return letter + std::to_string(number);
+}
 
 void fillWord(CutResult& result) {
   result.word.clear();
@@ -689,7 +748,9 @@ CutResult cutToDisk(const TriMesh& mesh, const CutOptions& options) {
   basisOptions.baseVertex = options.baseVertex;
   const HomotopyBasis basis = computeHomotopyBasis(mesh, basisOptions);
 
-  Work work{std::make_unique<TriMesh>(mesh), 0, 0, options.maxRefinements};
+  const std::size_t maxVertices =
+      std::max<std::size_t>(options.maxGrowth * mesh.n_vertices(), 100000);
+  Work work{std::make_unique<TriMesh>(mesh), 0, 0, options.maxRefinements, maxVertices};
   const bool loopCut = options.oneVertexSchema && basis.boundaryLoops.empty() && basis.genus > 0;
   LoopSystem system;
   std::vector<int> cutEdges;
@@ -698,8 +759,17 @@ CutResult cutToDisk(const TriMesh& mesh, const CutOptions& options) {
     if (options.canonicalSchema) canonicalize(work, system);
     cutEdges = edgesOfPaths(*work.surface, system.loops);
   } else {
-    // work.surface is a copy of the input, so the input's edge indices hold for it.
-    cutEdges = computeCutGraph(mesh, basis).edges;
+    // Where every path to a boundary must pass another boundary vertex, the cut graph touches a
+    // boundary off its anchor and the surface falls apart; refining makes room (rarely needed).
+    for (;;) {
+      const HomotopyBasis current =
+          work.refinements == 0 ? basis : computeHomotopyBasis(*work.surface, basisOptions);
+      cutEdges = computeCutGraph(*work.surface, current).edges;
+      const TopologyReport opened = analyzeTopology(cutAlongEdges(*work.surface, cutEdges).mesh);
+      if (opened.euler == 1 && opened.boundaryLoops == 1 && opened.components == 1) break;
+      std::vector<std::vector<int>> noPaths;
+      refine(work, noPaths);
+    }
   }
   const OpenedSurface opened = openSurface(*work.surface, cutEdges);
 

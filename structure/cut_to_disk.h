@@ -11,7 +11,8 @@
 namespace mspline::structure {
 
 struct CutOptions {
-  /// Base vertex of the homotopy basis; -1 chooses one (see HomotopyBasisOptions).
+  /// Base vertex of the homotopy basis (and so of the general cut graph); -1 chooses one (see
+  /// HomotopyBasisOptions). The one-vertex schema's common vertex is chosen far from the basis.
   int baseVertex = -1;
   /// Closed surfaces of genus >= 1: cut along 2g loops meeting at one vertex (4g boundary
   /// segments). When false, every surface is cut along the general cut graph on original edges.
@@ -21,6 +22,10 @@ struct CutOptions {
   bool canonicalSchema = true;
   /// Whole-mesh 1-to-4 midpoint refinements allowed when the loops do not fit in the mesh.
   int maxRefinements = 3;
+  /// Give up (TopologyError) when the surface being cut would grow past maxGrowth times the
+  /// input's vertex count (at least 100000 vertices): routing 4g loops out of one vertex on a
+  /// coarse mesh of high genus needs ever more edge splits.
+  std::size_t maxGrowth = 64;
 };
 
 /// One stretch of the disk boundary: a copy of one cut curve or a piece of an original boundary.
@@ -39,8 +44,7 @@ struct BoundarySegment {
 };
 
 struct CutResult {
-  /// Copies both meshes; the other fields start empty. (Built by copy because assigning OpenMesh
-  /// meshes trips GCC's -Wmaybe-uninitialized inside OpenMesh.)
+  /// Copies both meshes; the other fields start empty.
   CutResult(const TriMesh& diskMesh, const TriMesh& surfaceMesh)
       : disk(diskMesh), surface(surfaceMesh) {}
 
@@ -53,9 +57,12 @@ struct CutResult {
   int genus = 0;
   /// For each disk vertex, the vertex of `surface` it copies.
   std::vector<int> surfaceVertex;
-  /// For each disk vertex, the input vertex it copies, or -1 for a vertex added by refinement.
+  /// For each disk vertex, the input vertex it copies, or -1 for a vertex added by a split or a
+  /// refinement (such vertices lie on input edges or faces, so the disk is the input surface).
   std::vector<int> inputVertex;
-  /// Whole-mesh midpoint refinements and single edge splits applied to the input.
+  /// Whole-mesh midpoint refinements and single edge splits applied to the input (the one-vertex
+  /// schema splits edges to route its loops; refinement is rare: very coarse meshes, or bounded
+  /// ones where a cut path cannot avoid touching another boundary).
   int refinements = 0;
   int edgeSplits = 0;
   /// Sorted indices of the edges of `surface` that were cut.
@@ -71,7 +78,8 @@ struct CutResult {
   /// Names: a_k/b_k for a canonical schema, x_k for the loops of a non-canonical one-vertex
   /// schema, c_k for chains of a general cut graph, d_k for pieces of the original boundary.
   std::vector<std::string> curveNames;
-  /// The boundary read from position 0, e.g. "a1 b1 a1^-1 b1^-1".
+  /// The segments' names in order from position 0, inverses marked "^-1": "a1 b1 a1^-1 b1^-1"
+  /// for a torus, "c1 d1 c1^-1 ..." for a bounded surface.
   std::string word;
   /// The surface vertex all loops meet at (one-vertex schema) or the basis base vertex.
   int baseVertex = -1;
@@ -86,7 +94,9 @@ struct CutResult {
 };
 
 /// Cuts the surface to a disk. Throws TopologyError for empty, non-manifold or disconnected
-/// meshes and when the one-vertex system does not fit after maxRefinements refinements.
+/// meshes and when the cut does not fit within maxRefinements refinements or maxGrowth.
+/// The general cut (bounded surfaces, spheres, oneVertexSchema off) runs along input edges
+/// unless a refinement was needed; the one-vertex schema always adds vertices.
 CutResult cutToDisk(const TriMesh& mesh, const CutOptions& options = {});
 
 }  // namespace mspline::structure

@@ -88,7 +88,13 @@ HomotopyBasis computeHomotopyBasis(const TriMesh& mesh, const HomotopyBasisOptio
                      std::to_string(nv) + " vertices)");
   basis.baseVertex = base;
 
-  // Shortest-path tree from the base.
+  // Shortest-path tree from the base. Entering a boundary vertex costs a penalty larger than any
+  // path, so that tree paths and loops keep off the boundary wherever the mesh allows: a cut
+  // graph touching a boundary loop anywhere but at its anchor would close a cycle with it, and
+  // the surface would fall apart instead of opening into a disk.
+  double penalty = 0;
+  if (!basis.boundaryLoops.empty())
+    for (auto e : mesh.edges()) penalty += mesh.calc_edge_length(e);
   basis.distance.assign(nv, std::numeric_limits<double>::infinity());
   basis.parent.assign(nv, -1);
   std::vector<int> parentEdge(nv, -1);
@@ -102,7 +108,8 @@ HomotopyBasis computeHomotopyBasis(const TriMesh& mesh, const HomotopyBasisOptio
     if (d > basis.distance[v]) continue;
     for (auto h : mesh.voh_range(TriMesh::VertexHandle(v))) {
       const int w = mesh.to_vertex_handle(h).idx();
-      const double nd = d + mesh.calc_edge_length(h);
+      const double nd = d + mesh.calc_edge_length(h) +
+                        (mesh.is_boundary(TriMesh::VertexHandle(w)) ? penalty : 0.0);
       if (nd < basis.distance[w]) {
         basis.distance[w] = nd;
         basis.parent[w] = v;
@@ -132,14 +139,16 @@ HomotopyBasis computeHomotopyBasis(const TriMesh& mesh, const HomotopyBasisOptio
   };
   for (auto e : mesh.edges())
     if (!inTree[e.idx()]) candidates.push_back({weight(e), e.idx()});
-  std::sort(candidates.begin(), candidates.end(),
-            [](const auto& a, const auto& b) { return a.first > b.first || (a.first == b.first && a.second < b.second); });
+  std::sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) {
+    return a.first > b.first || (a.first == b.first && a.second < b.second);
+  });
   const int nf = static_cast<int>(mesh.n_faces());
   UnionFind dual(nf + basis.boundaryLoops.size());
   auto dualNode = [&](TriMesh::HalfedgeHandle h) {
     return mesh.is_boundary(h) ? nf + capOfHalfedge[h.idx()] : mesh.face_handle(h).idx();
   };
-  for (const auto& [w, e] : candidates) {
+  for (const auto& candidate : candidates) {
+    const int e = candidate.second;
     const TriMesh::EdgeHandle eh(e);
     if (dual.unite(dualNode(mesh.halfedge_handle(eh, 0)), dualNode(mesh.halfedge_handle(eh, 1))))
       continue;
@@ -149,7 +158,12 @@ HomotopyBasis computeHomotopyBasis(const TriMesh& mesh, const HomotopyBasisOptio
     std::vector<int> back = treePath(basis, mesh.to_vertex_handle(h).idx());
     loop.insert(loop.end(), back.rbegin(), back.rend());
     basis.loops.push_back(std::move(loop));
-    basis.lengths.push_back(w);
+    double length = 0;
+    for (std::size_t k = 0; k + 1 < basis.loops.back().size(); ++k)
+      length += (mesh.point(TriMesh::VertexHandle(basis.loops.back()[k])) -
+                 mesh.point(TriMesh::VertexHandle(basis.loops.back()[k + 1])))
+                    .norm();
+    basis.lengths.push_back(length);
   }
   MSPLINE_ASSERT(basis.loops.size() % 2 == 0, "tree-cotree left an odd number of edges");
   basis.genus = static_cast<int>(basis.loops.size() / 2);

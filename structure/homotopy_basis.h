@@ -28,6 +28,8 @@ struct HomotopyBasis {
   /// For each loop the edge (index) outside both spanning trees that closes it.
   std::vector<int> leftoverEdges;
   /// Shortest-path tree: parent vertex of each vertex (-1 for the base) and distance from the base.
+  /// On a surface with boundary, entering a boundary vertex adds a penalty (the total edge length)
+  /// to the distance, so that paths and loops avoid the boundary where they can.
   std::vector<int> parent;
   std::vector<double> distance;
   /// Boundary loops as cyclic vertex sequences in the direction of the boundary halfedges.

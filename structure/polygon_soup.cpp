@@ -1,8 +1,3 @@
-// OpenMesh's PropertyT<Vec2d>::push_back value-initialises a vector whose constructor leaves it
-// uninitialised, which GCC 12 reports once texture coordinates are requested; the warning is
-// about OpenMesh's header, not this file.
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-
 #include "structure/polygon_soup.h"
 
 #include <OpenMesh/Core/System/omstream.hh>

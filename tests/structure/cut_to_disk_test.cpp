@@ -62,7 +62,8 @@ void checkDisk(const TriMesh& input, const CutResult& r) {
   for (auto f : r.disk.faces()) {
     std::vector<int> diskCorners, surfaceCorners;
     for (auto v : r.disk.fv_range(f)) diskCorners.push_back(r.surfaceVertex[v.idx()]);
-    for (auto v : r.surface.fv_range(TriMesh::FaceHandle(f.idx()))) surfaceCorners.push_back(v.idx());
+    for (auto v : r.surface.fv_range(TriMesh::FaceHandle(f.idx())))
+      surfaceCorners.push_back(v.idx());
     REQUIRE(surfaceCorners.size() == 3);
     const auto at = std::find(surfaceCorners.begin(), surfaceCorners.end(), diskCorners[0]);
     REQUIRE(at != surfaceCorners.end());
@@ -73,7 +74,8 @@ void checkDisk(const TriMesh& input, const CutResult& r) {
     const int s = r.surfaceVertex[v.idx()];
     CHECK((r.disk.point(v) - r.surface.point(VH(s))).norm() == 0);
     CHECK(r.inputVertex[v.idx()] == (s < int(input.n_vertices()) ? s : -1));
-    if (s < int(input.n_vertices())) CHECK((r.surface.point(VH(s)) - input.point(VH(s))).norm() == 0);
+    if (s < int(input.n_vertices()))
+      CHECK((r.surface.point(VH(s)) - input.point(VH(s))).norm() == 0);
   }
 
   // The boundary loop follows the disk's boundary halfedges and visits every boundary vertex once.
@@ -104,7 +106,8 @@ void checkDisk(const TriMesh& input, const CutResult& r) {
   const auto tokens = words(r.word);
   REQUIRE(tokens.size() == r.segments.size());
   for (std::size_t k = 0; k < tokens.size(); ++k)
-    CHECK(tokens[k] == r.curveNames[r.segments[k].curve] + (r.segments[k].orientation < 0 ? "^-1" : ""));
+    CHECK(tokens[k] ==
+          r.curveNames[r.segments[k].curve] + (r.segments[k].orientation < 0 ? "^-1" : ""));
   // Cut curves appear twice, once each way; boundary pieces once.
   for (const auto& s : r.segments) {
     const auto& o = orientations[s.curve];
@@ -162,24 +165,43 @@ TEST_CASE("cut_to_disk: double torus", "[structure]") {
   checkSchema(mesh, r, 2);
 }
 
-TEST_CASE("cut_to_disk: genus-3 generated surface", "[structure][slow]") {
+TEST_CASE("cut_to_disk: genus-3 generated surface", "[structure]") {
   const TriMesh mesh = test::genusSurface(3, 2);
   checkSchema(mesh, cutToDisk(mesh), 3);
 }
 
-TEST_CASE("cut_to_disk: genus-1 knot1", "[structure][slow]") {
+TEST_CASE("cut_to_disk: genus-1 knot1", "[structure]") {
   const TriMesh mesh = loadReal("knot1.off");
   checkSchema(mesh, cutToDisk(mesh), 1);
 }
 
-TEST_CASE("cut_to_disk: genus-2 eight", "[structure][slow]") {
+TEST_CASE("cut_to_disk: genus-2 eight", "[structure]") {
   const TriMesh mesh = loadReal("eight.off");
   checkSchema(mesh, cutToDisk(mesh), 2);
 }
 
-TEST_CASE("cut_to_disk: genus-3 elephant", "[structure][slow]") {
+TEST_CASE("cut_to_disk: genus-3 elephant", "[structure]") {
   const TriMesh mesh = loadReal("elephant.off");
   checkSchema(mesh, cutToDisk(mesh), 3);
+}
+
+TEST_CASE("cut_to_disk: genus-4 generated surface", "[structure]") {
+  const TriMesh mesh = test::genusSurface(4, 2);
+  checkSchema(mesh, cutToDisk(mesh), 4);
+}
+
+TEST_CASE("cut_to_disk: a very coarse genus-3 mesh is refined, within the allowed refinements",
+          "[structure]") {
+  // 3torus.off has 19 vertices: too few to route 12 loop ends out of one vertex.
+  const TriMesh mesh = loadReal("3torus.off");
+  const CutResult r = cutToDisk(mesh);
+  checkSchema(mesh, r, 3);
+  CHECK(r.refinements >= 1);
+  CHECK(r.surface.n_faces() > 4 * mesh.n_faces());
+  CHECK(std::count(r.inputVertex.begin(), r.inputVertex.end(), -1) > 0);
+  CutOptions options;
+  options.maxRefinements = 0;
+  CHECK_THROWS_AS(cutToDisk(mesh, options), structure::TopologyError);
 }
 
 TEST_CASE("cut_to_disk: without canonical form the one-vertex schema still has 4g sides",
@@ -263,8 +285,11 @@ TEST_CASE("cut_to_disk: surfaces with boundary", "[structure]") {
   }
 }
 
-TEST_CASE("cut_to_disk: real meshes with boundary", "[structure][slow]") {
-  for (const char* name : {"head.off", "mannequin-devil.off"}) {
+TEST_CASE("cut_to_disk: real meshes with boundary", "[structure]") {
+  // holes.off (7 boundaries) and elephant-with-holes.off (genus 3, 106 boundaries) need cut paths
+  // that keep off the other boundaries.
+  for (const char* name :
+       {"head.off", "mannequin-devil.off", "holes.off", "elephant-with-holes.off"}) {
     INFO(name);
     const TriMesh mesh = loadReal(name);
     checkDisk(mesh, cutToDisk(mesh));

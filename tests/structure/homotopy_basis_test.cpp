@@ -38,7 +38,8 @@ void checkLoops(const TriMesh& mesh, const HomotopyBasis& basis, int genus) {
     double length = 0;
     bool usesLeftover = false;
     for (std::size_t k = 0; k + 1 < loop.size(); ++k) {
-      const auto h = mesh.find_halfedge(TriMesh::VertexHandle(loop[k]), TriMesh::VertexHandle(loop[k + 1]));
+      const auto h =
+          mesh.find_halfedge(TriMesh::VertexHandle(loop[k]), TriMesh::VertexHandle(loop[k + 1]));
       REQUIRE(h.is_valid());
       length += mesh.calc_edge_length(h);
       usesLeftover = usesLeftover || mesh.edge_handle(h).idx() == basis.leftoverEdges[i];
@@ -80,7 +81,7 @@ TEST_CASE("homotopy_basis: base vertex option and tree", "[structure]") {
   CHECK_THROWS_AS(computeHomotopyBasis(mesh, options), structure::InputError);
 }
 
-TEST_CASE("homotopy_basis: real closed meshes", "[structure][slow]") {
+TEST_CASE("homotopy_basis: real closed meshes", "[structure]") {
   checkLoops(loadReal("knot1.off"), computeHomotopyBasis(loadReal("knot1.off")), 1);
   const TriMesh eight = loadReal("eight.off");
   checkLoops(eight, computeHomotopyBasis(eight), 2);
@@ -118,4 +119,14 @@ TEST_CASE("homotopy_basis: rejects several components", "[structure]") {
   soup.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {5, 0, 0}, {6, 0, 0}, {5, 1, 0}};
   soup.faces = {{0, 1, 2}, {3, 4, 5}};
   CHECK_THROWS_AS(computeHomotopyBasis(structure::toTriMesh(soup)), structure::TopologyError);
+}
+
+TEST_CASE("homotopy_basis: rejects a non-manifold vertex", "[structure]") {
+  // Two triangles sharing only vertex 0 (a bow-tie): one component, but not a surface at 0.
+  structure::PolygonSoup soup;
+  soup.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {0, -1, 0}};
+  soup.faces = {{0, 1, 2}, {0, 3, 4}};
+  const TriMesh mesh = structure::toTriMesh(soup);
+  REQUIRE(mesh.n_faces() == 2);
+  CHECK_THROWS_AS(computeHomotopyBasis(mesh), structure::TopologyError);
 }
