@@ -27,6 +27,8 @@ struct ChildRun {
 };
 
 ChildRun runChild(const std::vector<std::string>& argv) {
+  // The child must not inherit (and print again) what is still buffered.
+  std::fflush(stdout);
   auto start = std::chrono::steady_clock::now();
   pid_t pid = fork();
   if (pid == 0) {
