@@ -71,8 +71,8 @@ int main(int argc, char** argv) {
     for (int repeat = 0; repeat < 3; ++repeat) {
       ChildRun run = runChild({mspline, "info", "--json", file.string()});
       if (run.exitCode != 0) {
-        std::fprintf(stderr, "info_bench: mspline info failed on %s (exit %d)\n",
-                     file.c_str(), run.exitCode);
+        std::fprintf(stderr, "info_bench: mspline info failed on %s (exit %d)\n", file.c_str(),
+                     run.exitCode);
         return 1;
       }
       best = std::min(best, run.seconds);

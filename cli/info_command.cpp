@@ -66,9 +66,9 @@ void printText(const Json& info) {
     }
     std::printf("%-21s %s\n", key, value.is_null() ? "unknown (invalid mesh)" : text.c_str());
   };
-  for (const char* key : {"file", "vertices", "edges", "faces", "components", "boundaries",
-                          "euler", "genus", "closed", "orientable", "bbox_diagonal",
-                          "min_angle_degrees", "median_angle_degrees"}) {
+  for (const char* key :
+       {"file", "vertices", "edges", "faces", "components", "boundaries", "euler", "genus",
+        "closed", "orientable", "bbox_diagonal", "min_angle_degrees", "median_angle_degrees"}) {
     if (info.contains(key)) line(key, info[key]);
   }
   if (info["problems"].empty()) {

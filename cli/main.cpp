@@ -7,7 +7,9 @@
 
 namespace mspline::cli {
 
-void printJson(const Json& object) { std::cout << object.dump(2) << std::endl; }
+void printJson(const Json& object) {
+  std::cout << object.dump(2) << std::endl;
+}
 
 namespace {
 

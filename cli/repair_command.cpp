@@ -39,8 +39,8 @@ void addRepairCommand(CLI::App& app, Command& command) {
       io::LoadedMesh loaded = io::loadMesh(arguments->mesh, options);
       printNotes(loaded.warnings, loaded.repairs);
       if (!loaded.validation.ok())
-        throw structure::InputError("after the requested repairs: " +
-                                    loaded.validation.summary() + " (nothing written)");
+        throw structure::InputError("after the requested repairs: " + loaded.validation.summary() +
+                                    " (nothing written)");
       io::writeMesh(arguments->output, loaded.soup);
       if (command.json) {
         printJson({{"file", arguments->mesh},

@@ -20,8 +20,8 @@ bool anyRepairRequested(const structure::RepairOptions& r) {
 // unreferenced vertices, thin faces) still leave a mesh whose topology can be reported.
 bool structureAllowsMesh(const structure::ValidationReport& report) {
   static const std::array<const char*, 7> blocking = {
-      "empty_mesh",         "face_index_out_of_range",  "too_few_face_vertices",
-      "non_manifold_edge",  "non_manifold_vertex",      "inconsistent_orientation",
+      "empty_mesh",        "face_index_out_of_range", "too_few_face_vertices",
+      "non_manifold_edge", "non_manifold_vertex",     "inconsistent_orientation",
       "duplicate_face"};
   return std::none_of(report.problems.begin(), report.problems.end(), [](const auto& problem) {
     return std::find(blocking.begin(), blocking.end(), problem.kind) != blocking.end();

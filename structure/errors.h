@@ -47,8 +47,8 @@ class InternalError : public Error {
 }  // namespace mspline::structure
 
 /// Checks an internal invariant in every build type; throws InternalError naming file:line.
-#define MSPLINE_ASSERT(condition, message)                                                 \
-  do {                                                                                     \
-    if (!(condition))                                                                      \
-      ::mspline::structure::throwAssertion(#condition, __FILE__, __LINE__, (message));    \
+#define MSPLINE_ASSERT(condition, message)                                             \
+  do {                                                                                 \
+    if (!(condition))                                                                  \
+      ::mspline::structure::throwAssertion(#condition, __FILE__, __LINE__, (message)); \
   } while (false)

@@ -30,8 +30,7 @@ const BadInput kCases[] = {
     {"face index out of range", "range.off",
      "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 7\n", "range"},
     {"nan coordinates", "nan.off",
-     "OFF\n4 4 0\n0 0 0\n1 0 nan\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n",
-     "finite"},
+     "OFF\n4 4 0\n0 0 0\n1 0 nan\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n", "finite"},
     {"non-manifold edge", "nmedge.off",
      "OFF\n5 3 0\n0 0 0\n1 0 0\n0 1 0\n0 -1 0\n0 0 1\n3 0 1 2\n3 1 0 3\n3 0 1 4\n",
      "non-manifold edge"},
@@ -45,14 +44,14 @@ const BadInput kCases[] = {
      "OFF\n4 5 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n3 0 2 1\n",
      "duplicate"},
     {"inconsistent orientation", "orientation.off",
-     "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n3 1 2 3\n3 0 3 2\n",
-     "orient"},
+     "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 3\n3 1 2 3\n3 0 3 2\n", "orient"},
     {"unreferenced vertex", "unreferenced.off",
      "OFF\n5 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n5 5 5\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n",
      "unreferenced"},
     {"several components", "components.off",
      "OFF\n6 2 0\n0 0 0\n1 0 0\n0 1 0\n5 0 0\n6 0 0\n5 1 0\n3 0 1 2\n3 3 4 5\n", "component"},
-    {"binary garbage", "binary.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 3\n"
+    {"binary garbage", "binary.ply",
+     "ply\nformat binary_little_endian 1.0\nelement vertex 3\n"
      "property float x\nproperty float y\nproperty float z\nelement face 1\n"
      "property list uchar int vertex_indices\nend_header\n\x01\x02",
      "binary.ply"},
@@ -63,7 +62,9 @@ std::string lowercase(std::string text) {
   return text;
 }
 
-std::string firstLine(const std::string& text) { return text.substr(0, text.find('\n')); }
+std::string firstLine(const std::string& text) {
+  return text.substr(0, text.find('\n'));
+}
 
 }  // namespace
 
@@ -130,8 +131,8 @@ TEST_CASE("bad_input: writing into a missing directory fails cleanly", "[cli]") 
   fs::path input = fs::path(dir) / "tet.off";
   std::ofstream(input) << "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n"
                           "3 0 3 2\n";
-  auto result = runCommand(cliPath() + " repair " + input.string() + " -o " + dir +
-                           "/no/such/dir/out.off");
+  auto result =
+      runCommand(cliPath() + " repair " + input.string() + " -o " + dir + "/no/such/dir/out.off");
   CHECK(result.exitCode == 2);
   CHECK(firstLine(result.err).find("out.off") != std::string::npos);
 }

@@ -25,9 +25,9 @@ TEST_CASE("info: genus and boundaries of real meshes", "[cli]") {
     int genus;
     int boundaries;
   };
-  for (Expected expected : {Expected{"knot1.off", 1, 0}, Expected{"eight.off", 2, 0},
-                            Expected{"elephant.off", 3, 0}, Expected{"head.off", 0, 3},
-                            Expected{"mannequin-devil.off", 0, 1}}) {
+  for (Expected expected :
+       {Expected{"knot1.off", 1, 0}, Expected{"eight.off", 2, 0}, Expected{"elephant.off", 3, 0},
+        Expected{"head.off", 0, 3}, Expected{"mannequin-devil.off", 0, 1}}) {
     INFO(expected.mesh);
     auto info = infoJson(expected.mesh);
     CHECK(info["genus"] == expected.genus);
@@ -51,9 +51,9 @@ TEST_CASE("info: text output names the file and the genus", "[cli]") {
 
 TEST_CASE("info: json has the documented keys", "[cli]") {
   auto info = infoJson("bunny00.off");
-  for (const char* key : {"vertices", "edges", "faces", "components", "boundaries", "euler",
-                          "genus", "closed", "orientable", "bbox_diagonal", "min_angle_degrees",
-                          "median_angle_degrees", "problems"})
+  for (const char* key :
+       {"vertices", "edges", "faces", "components", "boundaries", "euler", "genus", "closed",
+        "orientable", "bbox_diagonal", "min_angle_degrees", "median_angle_degrees", "problems"})
     CHECK(info.contains(key));
   CHECK(info["vertices"] == 37706);
   CHECK(info["faces"] == 75408);

@@ -16,11 +16,14 @@ std::string realMeshPath(const std::string& name) {
   const char* env = std::getenv("MSPLINE_DATA_DIR");
   fs::path dir = env ? fs::path(env) : fs::path(MSPLINE_SOURCE_DIR) / "data" / "meshes";
   fs::path path = dir / name;
-  if (!fs::exists(path)) FAIL("real mesh " << path.string() << " is missing: run scripts/fetch-data");
+  if (!fs::exists(path))
+    FAIL("real mesh " << path.string() << " is missing: run scripts/fetch-data");
   return path.string();
 }
 
-std::string cliPath() { return MSPLINE_CLI_PATH; }
+std::string cliPath() {
+  return MSPLINE_CLI_PATH;
+}
 
 std::string scratchDirectory(const std::string& testName) {
   fs::path dir = fs::temp_directory_path() / "mspline-tests" / testName;
