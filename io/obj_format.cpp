@@ -111,12 +111,7 @@ void writeObj(std::ostream& out, const structure::PolygonSoup& soup, bool withUV
   OutputBuffer buffer(out);
   for (const auto& p : soup.positions) {
     buffer.text("v ");
-    buffer.number(p[0]);
-    buffer.character(' ');
-    buffer.number(p[1]);
-    buffer.character(' ');
-    buffer.number(p[2]);
-    buffer.character('\n');
+    buffer.pointLine(p);
   }
   if (withUVs) {
     for (const auto& faceUVs : soup.cornerUVs) {

@@ -1,11 +1,13 @@
 #pragma once
 // Internal to the writers: formats into a string and hands it to the stream in large chunks,
 // which is much faster than formatted stream output per number.
+#include <array>
 #include <charconv>
 #include <cstdint>
 #include <ostream>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "io/byte_order.h"
 
@@ -35,6 +37,24 @@ class OutputBuffer {
     auto result = std::to_chars(digits, digits + sizeof digits, value);
     buffer_.append(digits, result.ptr);
     drainIfFull();
+  }
+  /// "x y z\n", the vertex line of every text format (after its own prefix, if any).
+  void pointLine(const std::array<double, 3>& p) {
+    number(p[0]);
+    character(' ');
+    number(p[1]);
+    character(' ');
+    number(p[2]);
+    character('\n');
+  }
+  /// "n i1 ... in\n", the face line of OFF and ASCII PLY.
+  void countedIndexLine(const std::vector<std::int64_t>& indices) {
+    integer(static_cast<std::int64_t>(indices.size()));
+    for (std::int64_t index : indices) {
+      character(' ');
+      integer(index);
+    }
+    character('\n');
   }
   template <typename T>
   void littleEndian(T value) {

@@ -412,20 +412,10 @@ void writePly(std::ostream& out, const structure::PolygonSoup& soup, bool binary
     }
   } else {
     for (const auto& p : soup.positions) {
-      buffer.number(p[0]);
-      buffer.character(' ');
-      buffer.number(p[1]);
-      buffer.character(' ');
-      buffer.number(p[2]);
-      buffer.character('\n');
+      buffer.pointLine(p);
     }
     for (const auto& face : soup.faces) {
-      buffer.integer(static_cast<std::int64_t>(face.size()));
-      for (std::int64_t index : face) {
-        buffer.character(' ');
-        buffer.integer(index);
-      }
-      buffer.character('\n');
+      buffer.countedIndexLine(face);
     }
   }
   buffer.flush();

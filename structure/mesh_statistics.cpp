@@ -56,7 +56,8 @@ MeshStatistics meshStatistics(const TriMesh& mesh) {
     std::nth_element(angles.begin(), middle, angles.end());
     stats.medianAngleDegrees = *middle;
     if (angles.size() % 2 == 0)  // even count: average the two middle values
-      stats.medianAngleDegrees = 0.5 * (stats.medianAngleDegrees + *std::max_element(angles.begin(), middle));
+      stats.medianAngleDegrees =
+          0.5 * (stats.medianAngleDegrees + *std::max_element(angles.begin(), middle));
   }
   return stats;
 }

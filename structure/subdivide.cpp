@@ -15,7 +15,8 @@ TriMesh subdivideMidpoint(const TriMesh& mesh) {
   for (std::size_t v = 0; v < nV; ++v) out.add_vertex(mesh.point(TriMesh::VertexHandle(int(v))));
   for (std::size_t e = 0; e < nE; ++e) {
     const auto h = mesh.halfedge_handle(TriMesh::EdgeHandle(int(e)), 0);
-    out.add_vertex(0.5 * (mesh.point(mesh.from_vertex_handle(h)) + mesh.point(mesh.to_vertex_handle(h))));
+    out.add_vertex(0.5 *
+                   (mesh.point(mesh.from_vertex_handle(h)) + mesh.point(mesh.to_vertex_handle(h))));
   }
 
   const auto midpoint = [&](TriMesh::HalfedgeHandle h) {
@@ -33,8 +34,8 @@ TriMesh subdivideMidpoint(const TriMesh& mesh) {
     // Corner triangles first, then the centre one; all keep the parent's orientation.
     const bool ok = out.add_face(v0, m0, m2).is_valid() && out.add_face(v1, m1, m0).is_valid() &&
                     out.add_face(v2, m2, m1).is_valid() && out.add_face(m0, m1, m2).is_valid();
-    MSPLINE_ASSERT(ok, "subdivideMidpoint: OpenMesh rejected a child face of face " +
-                           std::to_string(f.idx()));
+    MSPLINE_ASSERT(
+        ok, "subdivideMidpoint: OpenMesh rejected a child face of face " + std::to_string(f.idx()));
   }
   return out;
 }

@@ -20,12 +20,6 @@ using VH = TriMesh::VertexHandle;
 
 namespace {
 
-TriMesh loadReal(const std::string& name) {
-  auto loaded = io::loadMesh(test::realMeshPath(name));
-  REQUIRE(loaded.mesh.has_value());
-  return *loaded.mesh;
-}
-
 std::vector<int> segmentSurfaceVertices(const CutResult& r, const structure::BoundarySegment& s) {
   const std::size_t n = r.boundaryLoop.size();
   std::size_t count = (s.end + n - s.begin) % n;
@@ -171,17 +165,17 @@ TEST_CASE("cut_to_disk: genus-3 generated surface", "[structure]") {
 }
 
 TEST_CASE("cut_to_disk: genus-1 knot1", "[structure]") {
-  const TriMesh mesh = loadReal("knot1.off");
+  const TriMesh mesh = test::realMesh("knot1.off");
   checkSchema(mesh, cutToDisk(mesh), 1);
 }
 
 TEST_CASE("cut_to_disk: genus-2 eight", "[structure]") {
-  const TriMesh mesh = loadReal("eight.off");
+  const TriMesh mesh = test::realMesh("eight.off");
   checkSchema(mesh, cutToDisk(mesh), 2);
 }
 
 TEST_CASE("cut_to_disk: genus-3 elephant", "[structure]") {
-  const TriMesh mesh = loadReal("elephant.off");
+  const TriMesh mesh = test::realMesh("elephant.off");
   checkSchema(mesh, cutToDisk(mesh), 3);
 }
 
@@ -193,7 +187,7 @@ TEST_CASE("cut_to_disk: genus-4 generated surface", "[structure]") {
 TEST_CASE("cut_to_disk: a very coarse genus-3 mesh is refined, within the allowed refinements",
           "[structure]") {
   // 3torus.off has 19 vertices: too few to route 12 loop ends out of one vertex.
-  const TriMesh mesh = loadReal("3torus.off");
+  const TriMesh mesh = test::realMesh("3torus.off");
   const CutResult r = cutToDisk(mesh);
   checkSchema(mesh, r, 3);
   CHECK(r.refinements >= 1);
@@ -291,7 +285,7 @@ TEST_CASE("cut_to_disk: real meshes with boundary", "[structure]") {
   for (const char* name :
        {"head.off", "mannequin-devil.off", "holes.off", "elephant-with-holes.off"}) {
     INFO(name);
-    const TriMesh mesh = loadReal(name);
+    const TriMesh mesh = test::realMesh(name);
     checkDisk(mesh, cutToDisk(mesh));
   }
 }

@@ -15,12 +15,6 @@ using structure::TriMesh;
 
 namespace {
 
-TriMesh loadReal(const std::string& name) {
-  auto loaded = io::loadMesh(test::realMeshPath(name));
-  REQUIRE(loaded.mesh.has_value());
-  return *loaded.mesh;
-}
-
 // Every loop closed at the base, walking along mesh edges, containing its leftover edge, with the
 // reported length; the leftover edges are distinct.
 void checkLoops(const TriMesh& mesh, const HomotopyBasis& basis, int genus) {
@@ -82,10 +76,10 @@ TEST_CASE("homotopy_basis: base vertex option and tree", "[structure]") {
 }
 
 TEST_CASE("homotopy_basis: real closed meshes", "[structure]") {
-  checkLoops(loadReal("knot1.off"), computeHomotopyBasis(loadReal("knot1.off")), 1);
-  const TriMesh eight = loadReal("eight.off");
+  checkLoops(test::realMesh("knot1.off"), computeHomotopyBasis(test::realMesh("knot1.off")), 1);
+  const TriMesh eight = test::realMesh("eight.off");
   checkLoops(eight, computeHomotopyBasis(eight), 2);
-  const TriMesh elephant = loadReal("elephant.off");
+  const TriMesh elephant = test::realMesh("elephant.off");
   checkLoops(elephant, computeHomotopyBasis(elephant), 3);
 }
 

@@ -1,5 +1,7 @@
 #include <catch2/catch.hpp>
 
+#include "support/test_meshes.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -17,44 +19,11 @@ using mspline::structure::RepairResult;
 using mspline::structure::validate;
 using mspline::structure::ValidationReport;
 
+namespace test = mspline::test;
+
 namespace {
 
 using Face = std::vector<std::int64_t>;
-
-PolygonSoup tetrahedron() {
-  PolygonSoup s;
-  s.sourceName = "tet.off";
-  s.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  s.faces = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
-  return s;
-}
-
-// Outward-oriented octahedron with vertices on the axes, centred at (offset, 0, 0).
-PolygonSoup octahedron(double offset = 0.0) {
-  PolygonSoup s;
-  s.sourceName = "oct.off";
-  s.positions = {{offset + 1, 0, 0}, {offset - 1, 0, 0}, {offset, 1, 0},
-                 {offset, -1, 0},    {offset, 0, 1},     {offset, 0, -1}};
-  for (int sx = 0; sx < 2; ++sx)
-    for (int sy = 0; sy < 2; ++sy)
-      for (int sz = 0; sz < 2; ++sz) {
-        const std::int64_t x = sx, y = 2 + sy, z = 4 + sz;
-        if ((sx + sy + sz) % 2 == 0)
-          s.faces.push_back({x, y, z});
-        else
-          s.faces.push_back({x, z, y});
-      }
-  return s;
-}
-
-void append(PolygonSoup& soup, const PolygonSoup& other) {
-  const auto base = static_cast<std::int64_t>(soup.positions.size());
-  soup.positions.insert(soup.positions.end(), other.positions.begin(), other.positions.end());
-  for (auto face : other.faces) {
-    for (auto& v : face) v += base;
-    soup.faces.push_back(face);
-  }
-}
 
 bool hasKind(const ValidationReport& report, const std::string& kind) {
   return std::any_of(report.problems.begin(), report.problems.end(),
@@ -90,7 +59,7 @@ TEST_CASE("repair: every requested repair is reported, in order, also when idle"
   all.mergeDuplicateVertices = all.removeDegenerateFaces = all.removeDuplicateFaces = true;
   all.splitNonManifoldVertices = all.orientConsistently = all.keepLargestComponent = true;
   all.dropUnreferencedVertices = true;
-  const RepairResult result = repair(tetrahedron(), all);
+  const RepairResult result = repair(test::tetrahedronSoup(), all);
   std::vector<std::string> names;
   for (const auto& action : result.actions) {
     names.push_back(action.repair);
@@ -101,10 +70,10 @@ TEST_CASE("repair: every requested repair is reported, in order, also when idle"
                                           "remove_duplicate_faces", "split_non_manifold_vertices",
                                           "orient_consistently", "keep_largest_component",
                                           "drop_unreferenced_vertices"});
-  CHECK(result.soup.faces == tetrahedron().faces);
-  CHECK(result.soup.positions == tetrahedron().positions);
+  CHECK(result.soup.faces == test::tetrahedronSoup().faces);
+  CHECK(result.soup.positions == test::tetrahedronSoup().positions);
 
-  CHECK(repair(tetrahedron(), RepairOptions{}).actions.empty());
+  CHECK(repair(test::tetrahedronSoup(), RepairOptions{}).actions.empty());
 }
 
 TEST_CASE("repair: merging bit-identical vertices joins an STL-style soup", "[structure]") {
@@ -142,14 +111,14 @@ TEST_CASE("repair: removing degenerate faces", "[structure]") {
 }
 
 TEST_CASE("repair: removing duplicate faces keeps the first", "[structure]") {
-  PolygonSoup s = tetrahedron();
+  PolygonSoup s = test::tetrahedronSoup();
   s.faces.insert(s.faces.begin() + 1, {1, 2, 0});
   s.faces.push_back({3, 2, 1});
   RepairOptions options;
   options.removeDuplicateFaces = true;
   const auto result = repair(s, options);
   CHECK(result.actions[0].count == 2);
-  CHECK(result.soup.faces == tetrahedron().faces);
+  CHECK(result.soup.faces == test::tetrahedronSoup().faces);
   CHECK(validate(result.soup).ok());
 }
 
@@ -176,7 +145,7 @@ TEST_CASE("repair: splitting a bow-tie gives one vertex per fan", "[structure]")
 }
 
 TEST_CASE("repair: orienting flips faces to agree with the first face", "[structure]") {
-  PolygonSoup s = tetrahedron();
+  PolygonSoup s = test::tetrahedronSoup();
   std::reverse(s.faces[1].begin(), s.faces[1].end());
   std::reverse(s.faces[3].begin(), s.faces[3].end());
   setUVsFromPositions(s);
@@ -190,7 +159,7 @@ TEST_CASE("repair: orienting flips faces to agree with the first face", "[struct
   CHECK(uvsMatchPositions(result.soup));
 
   // When the first face is the odd one out, the others are flipped to agree with it.
-  PolygonSoup inverted = tetrahedron();
+  PolygonSoup inverted = test::tetrahedronSoup();
   std::reverse(inverted.faces[0].begin(), inverted.faces[0].end());
   const auto result2 = repair(inverted, options);
   CHECK(result2.actions[0].count == 3);
@@ -225,8 +194,8 @@ TEST_CASE("repair: a Moebius strip is left as it is and the action says why", "[
 
 TEST_CASE("repair: keeping the largest component and dropping unreferenced vertices",
           "[structure]") {
-  PolygonSoup s = tetrahedron();
-  append(s, octahedron(5.0));
+  PolygonSoup s = test::tetrahedronSoup();
+  test::appendSoup(s, test::octahedronSoup(5.0));
   RepairOptions options;
   options.keepLargestComponent = true;
   const auto kept = repair(s, options);
@@ -241,13 +210,13 @@ TEST_CASE("repair: keeping the largest component and dropping unreferenced verti
   options.dropUnreferencedVertices = true;
   const auto clean = repair(s, options);
   CHECK(clean.actions[1].count == 4);
-  CHECK(clean.soup.positions == octahedron(5.0).positions);
-  CHECK(clean.soup.faces == octahedron(5.0).faces);
+  CHECK(clean.soup.positions == test::octahedronSoup(5.0).positions);
+  CHECK(clean.soup.faces == test::octahedronSoup(5.0).faces);
   CHECK(validate(clean.soup).ok());
 }
 
 TEST_CASE("repair: dropping unreferenced vertices renumbers faces", "[structure]") {
-  PolygonSoup s = tetrahedron();
+  PolygonSoup s = test::tetrahedronSoup();
   s.positions.insert(s.positions.begin(), {9, 9, 9});
   for (auto& face : s.faces)
     for (auto& v : face) ++v;
@@ -256,13 +225,13 @@ TEST_CASE("repair: dropping unreferenced vertices renumbers faces", "[structure]
   options.dropUnreferencedVertices = true;
   const auto result = repair(s, options);
   CHECK(result.actions[0].count == 2);
-  CHECK(result.soup.positions == tetrahedron().positions);
-  CHECK(result.soup.faces == tetrahedron().faces);
+  CHECK(result.soup.positions == test::tetrahedronSoup().positions);
+  CHECK(result.soup.faces == test::tetrahedronSoup().faces);
 }
 
 TEST_CASE("repair: all repairs together turn a defective soup into a clean mesh", "[structure]") {
   // An octahedron stored STL-style (three own vertices per face), with defects added.
-  const PolygonSoup oct = octahedron();
+  const PolygonSoup oct = test::octahedronSoup();
   PolygonSoup s;
   s.sourceName = "scan.stl";
   for (const auto& face : oct.faces) {
@@ -307,7 +276,7 @@ TEST_CASE("repair: all repairs together turn a defective soup into a clean mesh"
 }
 
 TEST_CASE("repair: out-of-range indices cannot be repaired", "[structure]") {
-  PolygonSoup s = tetrahedron();
+  PolygonSoup s = test::tetrahedronSoup();
   s.faces.push_back({0, 1, 4});
   RepairOptions options;
   options.removeDegenerateFaces = true;

@@ -64,7 +64,8 @@ Shape shapeOf(const TriMesh& mesh) {
     s.signedVolume += OpenMesh::dot(p[0], OpenMesh::cross(p[1], p[2])) / 6;
     for (int k = 0; k < 3; ++k) {
       const auto a = p[(k + 1) % 3] - p[k], b = p[(k + 2) % 3] - p[k];
-      const double angle = std::acos(std::clamp(OpenMesh::dot(a, b) / (a.norm() * b.norm()), -1.0, 1.0));
+      const double angle =
+          std::acos(std::clamp(OpenMesh::dot(a, b) / (a.norm() * b.norm()), -1.0, 1.0));
       s.minAngleDegrees = std::min(s.minAngleDegrees, angle * 180 / M_PI);
     }
   }

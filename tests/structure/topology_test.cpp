@@ -10,15 +10,7 @@ using namespace mspline;
 using structure::analyzeTopology;
 using structure::TriMesh;
 
-namespace {
-
-TriMesh loadReal(const std::string& name) {
-  auto loaded = io::loadMesh(test::realMeshPath(name));
-  REQUIRE(loaded.mesh.has_value());
-  return *loaded.mesh;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 TEST_CASE("topology: generated meshes", "[structure]") {
   SECTION("disk") {
@@ -91,7 +83,7 @@ TEST_CASE("topology: real meshes", "[structure]") {
                             {"mannequin-devil.off", 0, 1}};
   for (const auto& expected : cases) {
     INFO(expected.name);
-    const auto t = analyzeTopology(loadReal(expected.name));
+    const auto t = analyzeTopology(test::realMesh(expected.name));
     CHECK(t.components == 1);
     CHECK(t.genus == expected.genus);
     CHECK(t.boundaryLoops == expected.boundaries);

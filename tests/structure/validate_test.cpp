@@ -1,5 +1,7 @@
 #include <catch2/catch.hpp>
 
+#include "support/test_meshes.h"
+
 #include <chrono>
 #include <cmath>
 #include <iostream>
@@ -17,55 +19,11 @@ using mspline::structure::validate;
 using mspline::structure::ValidationOptions;
 using mspline::structure::ValidationReport;
 
+namespace test = mspline::test;
+
 namespace {
 
 using Elements = std::vector<std::int64_t>;
-
-// Outward-oriented unit tetrahedron.
-PolygonSoup tetrahedron() {
-  PolygonSoup s;
-  s.sourceName = "tet.off";
-  s.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  s.faces = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
-  return s;
-}
-
-// Outward-oriented octahedron with vertices on the axes, shifted by `offset` along x.
-PolygonSoup octahedron(double offset = 0.0) {
-  PolygonSoup s;
-  s.sourceName = "oct.off";
-  s.positions = {{offset + 1, 0, 0}, {offset - 1, 0, 0}, {offset, 1, 0},
-                 {offset, -1, 0},    {offset, 0, 1},     {offset, 0, -1}};
-  for (int sx = 0; sx < 2; ++sx)
-    for (int sy = 0; sy < 2; ++sy)
-      for (int sz = 0; sz < 2; ++sz) {
-        const std::int64_t x = sx, y = 2 + sy, z = 4 + sz;
-        if ((sx + sy + sz) % 2 == 0)
-          s.faces.push_back({x, y, z});
-        else
-          s.faces.push_back({x, z, y});
-      }
-  return s;
-}
-
-// n x n grid on the unit square; quads split into two triangles or kept as quads.
-PolygonSoup grid(int n, bool quads = false) {
-  PolygonSoup s;
-  s.sourceName = "grid";
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) s.positions.push_back({double(i) / n, double(j) / n, 0.0});
-  auto id = [n](int i, int j) { return std::int64_t(j) * (n + 1) + i; };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      if (quads) {
-        s.faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
-      } else {
-        s.faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-        s.faces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-      }
-    }
-  return s;
-}
 
 // Triangulated Moebius strip with n quads: vertex i (top) and n + i (bottom).
 PolygonSoup moebius(int n) {
@@ -88,16 +46,6 @@ PolygonSoup moebius(int n) {
   return s;
 }
 
-// Appends `other` to `soup` as a separate set of vertices.
-void append(PolygonSoup& soup, const PolygonSoup& other) {
-  const auto base = static_cast<std::int64_t>(soup.positions.size());
-  soup.positions.insert(soup.positions.end(), other.positions.begin(), other.positions.end());
-  for (auto face : other.faces) {
-    for (auto& v : face) v += base;
-    soup.faces.push_back(face);
-  }
-}
-
 std::vector<std::string> kinds(const ValidationReport& report) {
   std::vector<std::string> out;
   for (const auto& p : report.problems) out.push_back(p.kind);
@@ -113,7 +61,7 @@ MeshProblem only(const ValidationReport& report, const std::string& kind) {
 }  // namespace
 
 TEST_CASE("validate: clean closed and open meshes have no problems", "[structure]") {
-  const auto tet = validate(tetrahedron());
+  const auto tet = validate(test::tetrahedronSoup());
   CHECK(tet.ok());
   CHECK(tet.vertices == 4);
   CHECK(tet.faces == 4);
@@ -122,13 +70,13 @@ TEST_CASE("validate: clean closed and open meshes have no problems", "[structure
   CHECK(tet.orientable);
   CHECK(tet.summary() == "no problems");
 
-  const auto oct = validate(octahedron());
+  const auto oct = validate(test::octahedronSoup());
   CHECK(oct.ok());
   CHECK(oct.edges == 12);
 
   for (bool quads : {false, true}) {
     const int n = 7;
-    const auto report = validate(grid(n, quads));
+    const auto report = validate(test::gridSoup(n, quads));
     INFO(report.summary());
     CHECK(report.ok());
     // Triangles add one diagonal per quad.
@@ -143,7 +91,7 @@ TEST_CASE("validate: empty soups", "[structure]") {
   const auto& p = only(validate(none), "empty_mesh");
   CHECK(p.message == "empty.off: the mesh is empty (0 faces, 0 vertices)");
 
-  PolygonSoup pointsOnly = tetrahedron();
+  PolygonSoup pointsOnly = test::tetrahedronSoup();
   pointsOnly.faces.clear();
   CHECK(only(validate(pointsOnly), "empty_mesh").message ==
         "tet.off: the mesh is empty (0 faces, 4 vertices)");
@@ -151,7 +99,7 @@ TEST_CASE("validate: empty soups", "[structure]") {
 
 TEST_CASE("validate: out-of-range indices are reported and excluded from other checks",
           "[structure]") {
-  PolygonSoup s = tetrahedron();
+  PolygonSoup s = test::tetrahedronSoup();
   s.faces.push_back({0, 1, 7});
   s.faces.push_back({-1, 2, 3});
   const auto report = validate(s);
@@ -165,7 +113,7 @@ TEST_CASE("validate: out-of-range indices are reported and excluded from other c
 }
 
 TEST_CASE("validate: faces with fewer than 3 vertices", "[structure]") {
-  PolygonSoup s = tetrahedron();
+  PolygonSoup s = test::tetrahedronSoup();
   s.faces.push_back({0, 1});
   s.faces.push_back({});
   const auto& p = only(validate(s), "too_few_face_vertices");
@@ -174,7 +122,7 @@ TEST_CASE("validate: faces with fewer than 3 vertices", "[structure]") {
 }
 
 TEST_CASE("validate: non-finite coordinates", "[structure]") {
-  PolygonSoup s = tetrahedron();
+  PolygonSoup s = test::tetrahedronSoup();
   s.positions[3][1] = std::numeric_limits<double>::quiet_NaN();
   s.positions[1][0] = std::numeric_limits<double>::infinity();
   const auto& p = only(validate(s), "non_finite_coordinate");
@@ -214,11 +162,11 @@ TEST_CASE("validate: a bow-tie is a non-manifold vertex", "[structure]") {
   CHECK(report.components == 1);
 
   // Two closed surfaces touching at one vertex: each side is a full fan, still two fans.
-  PolygonSoup touching = tetrahedron();
-  PolygonSoup other = tetrahedron();
+  PolygonSoup touching = test::tetrahedronSoup();
+  PolygonSoup other = test::tetrahedronSoup();
   for (auto& p3 : other.positions) p3 = {-p3[0], -p3[1], -p3[2]};
   for (auto& face : other.faces) std::swap(face[1], face[2]);
-  append(touching, other);
+  test::appendSoup(touching, other);
   for (auto& face : touching.faces)
     for (auto& v : face)
       if (v == 4) v = 0;
@@ -261,7 +209,7 @@ TEST_CASE("validate: degenerate faces by repeated index or zero area", "[structu
 }
 
 TEST_CASE("validate: duplicate faces in any order and orientation", "[structure]") {
-  PolygonSoup s = tetrahedron();
+  PolygonSoup s = test::tetrahedronSoup();
   s.faces.push_back({2, 1, 0});
   s.faces.push_back({3, 1, 0});
   const auto report = validate(s);
@@ -276,7 +224,7 @@ TEST_CASE("validate: duplicate faces in any order and orientation", "[structure]
 }
 
 TEST_CASE("validate: inconsistent orientation that flipping fixes", "[structure]") {
-  PolygonSoup s = tetrahedron();
+  PolygonSoup s = test::tetrahedronSoup();
   s.faces[3] = {1, 3, 2};
   const auto report = validate(s);
   const auto& p = only(report, "inconsistent_orientation");
@@ -296,7 +244,7 @@ TEST_CASE("validate: a Moebius strip is non-orientable", "[structure]") {
 }
 
 TEST_CASE("validate: unreferenced vertices and the listing limit", "[structure]") {
-  PolygonSoup s = tetrahedron();
+  PolygonSoup s = test::tetrahedronSoup();
   for (int i = 0; i < 15; ++i) s.positions.push_back({5.0 + i, 0, 0});
   const auto& p = only(validate(s), "unreferenced_vertex");
   CHECK(p.count == 15);
@@ -310,12 +258,12 @@ TEST_CASE("validate: unreferenced vertices and the listing limit", "[structure]"
 }
 
 TEST_CASE("validate: multiple components are counted with their sizes", "[structure]") {
-  PolygonSoup s = tetrahedron();
-  append(s, octahedron(5.0));
+  PolygonSoup s = test::tetrahedronSoup();
+  test::appendSoup(s, test::octahedronSoup(5.0));
   PolygonSoup triangle;
   triangle.positions = {{9, 0, 0}, {10, 0, 0}, {9, 1, 0}};
   triangle.faces = {{0, 1, 2}};
-  append(s, triangle);
+  test::appendSoup(s, triangle);
   const auto report = validate(s);
   const auto& p = only(report, "multiple_components");
   CHECK(report.components == 3);
@@ -327,7 +275,7 @@ TEST_CASE("validate: multiple components are counted with their sizes", "[struct
 }
 
 TEST_CASE("validate: every problem is reported and summarised in a fixed order", "[structure]") {
-  PolygonSoup s = tetrahedron();
+  PolygonSoup s = test::tetrahedronSoup();
   s.faces[3] = {1, 3, 2};            // inconsistent orientation
   s.faces.push_back({0, 1});         // too few vertices
   s.positions.push_back({7, 7, 7});  // unreferenced
@@ -340,7 +288,7 @@ TEST_CASE("validate: every problem is reported and summarised in a fixed order",
 }
 
 TEST_CASE("validate: connectivity exposes fans, patches and flips", "[structure]") {
-  PolygonSoup s = tetrahedron();
+  PolygonSoup s = test::tetrahedronSoup();
   s.faces[1] = {0, 3, 1};
   const auto c = mspline::structure::analyzeConnectivity(s);
   CHECK(c.faceFlip == std::vector<std::uint8_t>{0, 1, 0, 0});
@@ -383,7 +331,7 @@ TEST_CASE("validate: real meshes", "[structure]") {
 
 TEST_CASE("validate: a million-triangle grid [slow]", "[structure][slow]") {
   const int n = 708;  // 2 * 708^2 = 1,002,528 triangles, 502,681 vertices
-  const PolygonSoup s = grid(n);
+  const PolygonSoup s = test::gridSoup(n);
   const auto start = std::chrono::steady_clock::now();
   const auto report = validate(s);
   const double seconds =

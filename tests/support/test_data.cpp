@@ -8,6 +8,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "io/load_mesh.h"
+
 namespace mspline::test {
 
 namespace fs = std::filesystem;
@@ -19,6 +21,12 @@ std::string realMeshPath(const std::string& name) {
   if (!fs::exists(path))
     FAIL("real mesh " << path.string() << " is missing: run scripts/fetch-data");
   return path.string();
+}
+
+structure::TriMesh realMesh(const std::string& name) {
+  auto loaded = io::loadMesh(realMeshPath(name));
+  REQUIRE(loaded.mesh.has_value());
+  return *loaded.mesh;
 }
 
 std::string cliPath() {

@@ -2,11 +2,16 @@
 // Real meshes fetched by scripts/fetch-data into data/ (git-ignored).
 #include <string>
 
+#include "structure/tri_mesh.h"
+
 namespace mspline::test {
 
 /// Absolute path of a fetched real mesh, e.g. realMeshPath("knot1.off"). Fails the current test
 /// with a message saying to run scripts/fetch-data when the file is missing.
 std::string realMeshPath(const std::string& name);
+
+/// The fetched real mesh, loaded and validated (fails the test if it is missing or invalid).
+structure::TriMesh realMesh(const std::string& name);
 
 /// The mspline command built with the tests.
 std::string cliPath();

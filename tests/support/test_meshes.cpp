@@ -24,7 +24,8 @@ void requireAtLeast(int value, int minimum, const char* what) {
 }
 
 void addFace(TriMesh& mesh, VH a, VH b, VH c) {
-  MSPLINE_ASSERT(mesh.add_face(a, b, c).is_valid(), "test mesh generator produced a non-manifold face");
+  MSPLINE_ASSERT(mesh.add_face(a, b, c).is_valid(),
+                 "test mesh generator produced a non-manifold face");
 }
 
 /// Splits the quad a b c d (counter-clockwise) along the diagonal a-c.
@@ -35,17 +36,20 @@ void addQuad(TriMesh& mesh, VH a, VH b, VH c, VH d) {
 
 /// A 2D region made of unit "blocks" of resolution x resolution cells: a (2 * holes + 1) x 3 block
 /// rectangle with `holes` one-block square holes in its middle row, separated by one block of
-/// material. Holes never touch each other or the outer border, so no two cells meet only at a corner.
+/// material. Holes never touch each other or the outer border, so no two cells meet only at a
+/// corner.
 struct PlateRegion {
   int cellsX = 0, cellsY = 0;
   std::vector<char> filled;  // indexed x + cellsX * y
 
   PlateRegion(int holes, int resolution)
-      : cellsX((2 * holes + 1) * resolution), cellsY(3 * resolution),
+      : cellsX((2 * holes + 1) * resolution),
+        cellsY(3 * resolution),
         filled(std::size_t(cellsX) * cellsY, 1) {
     for (int k = 0; k < holes; ++k)
       for (int y = resolution; y < 2 * resolution; ++y)
-        for (int x = (2 * k + 1) * resolution; x < (2 * k + 2) * resolution; ++x) filled[index(x, y)] = 0;
+        for (int x = (2 * k + 1) * resolution; x < (2 * k + 2) * resolution; ++x)
+          filled[index(x, y)] = 0;
   }
   std::size_t index(int x, int y) const { return std::size_t(x) + std::size_t(cellsX) * y; }
   bool isFilled(int x, int y) const {
@@ -57,10 +61,14 @@ struct PlateRegion {
 class LatticeVertices {
  public:
   LatticeVertices(TriMesh& mesh, int nx, int ny, int nz, double spacing)
-      : mesh_(mesh), nx_(nx), ny_(ny), spacing_(spacing),
+      : mesh_(mesh),
+        nx_(nx),
+        ny_(ny),
+        spacing_(spacing),
         ids_(std::size_t(nx + 1) * (ny + 1) * (nz + 1), -1) {}
   VH at(int x, int y, int z) {
-    int& id = ids_[std::size_t(x) + std::size_t(nx_ + 1) * (std::size_t(y) + std::size_t(ny_ + 1) * z)];
+    int& id =
+        ids_[std::size_t(x) + std::size_t(nx_ + 1) * (std::size_t(y) + std::size_t(ny_ + 1) * z)];
     if (id < 0) id = mesh_.add_vertex(Point(x * spacing_, y * spacing_, z * spacing_)).idx();
     return VH(id);
   }
@@ -107,12 +115,14 @@ void centre(TriMesh& mesh) {
 TriMesh gridDisk(int n) {
   requireAtLeast(n, 1, "gridDisk: n");
   TriMesh mesh;
-  mesh.reserve(std::size_t(n + 1) * (n + 1), 3 * std::size_t(n) * n + 2 * n, 2 * std::size_t(n) * n);
+  mesh.reserve(std::size_t(n + 1) * (n + 1), 3 * std::size_t(n) * n + 2 * n,
+               2 * std::size_t(n) * n);
   for (int j = 0; j <= n; ++j)
     for (int i = 0; i <= n; ++i) mesh.add_vertex(Point(double(i) / n, double(j) / n, 0));
   const auto at = [n](int i, int j) { return VH(i + (n + 1) * j); };
   for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) addQuad(mesh, at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+    for (int i = 0; i < n; ++i)
+      addQuad(mesh, at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
   return mesh;
 }
 
@@ -132,7 +142,8 @@ TriMesh cylinder(int around, int along) {
   }
   const auto at = [around](int i, int j) { return VH(i % around + around * j); };
   for (int j = 0; j < along; ++j)
-    for (int i = 0; i < around; ++i) addQuad(mesh, at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+    for (int i = 0; i < around; ++i)
+      addQuad(mesh, at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
   return mesh;
 }
 
@@ -153,16 +164,18 @@ TriMesh torus(int major, int minor) {
   const auto at = [major, minor](int i, int j) { return VH(i % major + major * (j % minor)); };
   // Increasing phi then increasing theta: d/dphi x d/dtheta points out of the tube.
   for (int j = 0; j < minor; ++j)
-    for (int i = 0; i < major; ++i) addQuad(mesh, at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+    for (int i = 0; i < major; ++i)
+      addQuad(mesh, at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
   return mesh;
 }
 
 TriMesh icosphere(int subdivisions) {
   requireAtLeast(subdivisions, 0, "icosphere: subdivisions");
   const double g = (1 + std::sqrt(5.0)) / 2;
-  const std::array<Point, 12> corners = {
-      Point(-1, g, 0), Point(1, g, 0), Point(-1, -g, 0), Point(1, -g, 0), Point(0, -1, g), Point(0, 1, g),
-      Point(0, -1, -g), Point(0, 1, -g), Point(g, 0, -1), Point(g, 0, 1), Point(-g, 0, -1), Point(-g, 0, 1)};
+  const std::array<Point, 12> corners = {Point(-1, g, 0),  Point(1, g, 0),   Point(-1, -g, 0),
+                                         Point(1, -g, 0),  Point(0, -1, g),  Point(0, 1, g),
+                                         Point(0, -1, -g), Point(0, 1, -g),  Point(g, 0, -1),
+                                         Point(g, 0, 1),   Point(-g, 0, -1), Point(-g, 0, 1)};
   const int faces[20][3] = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
                             {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
                             {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
@@ -185,7 +198,9 @@ TriMesh icosphere(int subdivisions) {
   return mesh;
 }
 
-TriMesh doubleTorus(int resolution) { return genusSurface(2, resolution); }
+TriMesh doubleTorus(int resolution) {
+  return genusSurface(2, resolution);
+}
 
 // The boundary surface of the plate region extruded to a slab one block thick, built from the
 // voxel faces between filled and empty cells, then Taubin-smoothed. Coordinates: one block = 1,
@@ -245,13 +260,71 @@ TriMesh pairOfPants(int resolution) {
       if (plate.isFilled(x, y))
         addQuad(mesh, lattice.at(x, y, 0), lattice.at(x + 1, y, 0), lattice.at(x + 1, y + 1, 0),
                 lattice.at(x, y + 1, 0));
-  const double width = plate.cellsX / double(resolution), height = plate.cellsY / double(resolution);
+  const double width = plate.cellsX / double(resolution),
+               height = plate.cellsY / double(resolution);
   for (const auto v : mesh.vertices()) {
     Point p = mesh.point(v);
     p[2] = 0.3 * std::sin(kPi * p[0] / width) * std::sin(kPi * p[1] / height);
     mesh.set_point(v, p);
   }
   return mesh;
+}
+
+}  // namespace mspline::test
+
+namespace mspline::test {
+
+PolygonSoup tetrahedronSoup() {
+  PolygonSoup s;
+  s.sourceName = "tet.off";
+  s.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  s.faces = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  return s;
+}
+
+PolygonSoup octahedronSoup(double offset) {
+  PolygonSoup s;
+  s.sourceName = "oct.off";
+  s.positions = {{offset + 1, 0, 0}, {offset - 1, 0, 0}, {offset, 1, 0},
+                 {offset, -1, 0},    {offset, 0, 1},     {offset, 0, -1}};
+  // Octant (sx, sy, sz) gets one face; odd octants reverse the order to keep normals outward.
+  for (int sx = 0; sx < 2; ++sx)
+    for (int sy = 0; sy < 2; ++sy)
+      for (int sz = 0; sz < 2; ++sz) {
+        const std::int64_t x = sx, y = 2 + sy, z = 4 + sz;
+        if ((sx + sy + sz) % 2 == 0)
+          s.faces.push_back({x, y, z});
+        else
+          s.faces.push_back({x, z, y});
+      }
+  return s;
+}
+
+PolygonSoup gridSoup(int n, bool quads) {
+  PolygonSoup s;
+  s.sourceName = "grid";
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) s.positions.push_back({double(i) / n, double(j) / n, 0.0});
+  auto id = [n](int i, int j) { return std::int64_t(j) * (n + 1) + i; };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      if (quads) {
+        s.faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+      } else {
+        s.faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+        s.faces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+      }
+    }
+  return s;
+}
+
+void appendSoup(PolygonSoup& soup, const PolygonSoup& other) {
+  const auto base = static_cast<std::int64_t>(soup.positions.size());
+  soup.positions.insert(soup.positions.end(), other.positions.begin(), other.positions.end());
+  for (auto face : other.faces) {
+    for (auto& v : face) v += base;
+    soup.faces.push_back(face);
+  }
 }
 
 }  // namespace mspline::test

@@ -1,13 +1,15 @@
 #pragma once
 // Meshes generated in code, shared by all tests. Every generator returns a clean manifold mesh
 // whose topology is stated in its comment; `resolution` scales the number of faces.
+#include "structure/polygon_soup.h"
 #include "structure/tri_mesh.h"
 
 namespace mspline::test {
 
 using structure::TriMesh;
 
-/// Unit square [0,1]^2 in the z = 0 plane, n x n quads split into triangles. Disk: genus 0, 1 boundary.
+/// Unit square [0,1]^2 in the z = 0 plane, n x n quads split into triangles. Disk: genus 0, 1
+/// boundary.
 TriMesh gridDisk(int n);
 /// Annulus (radii 0.5 and 1) bent into a cylinder of height 1: genus 0, 2 boundaries.
 TriMesh cylinder(int around, int along);
@@ -21,5 +23,20 @@ TriMesh doubleTorus(int resolution);
 TriMesh genusSurface(int genus, int resolution);
 /// Disk with two holes: genus 0, 3 boundaries.
 TriMesh pairOfPants(int resolution);
+
+}  // namespace mspline::test
+
+namespace mspline::test {
+
+using structure::PolygonSoup;
+
+/// Outward-oriented unit tetrahedron as a soup (source name "tet.off").
+PolygonSoup tetrahedronSoup();
+/// Outward-oriented octahedron with vertices on the axes, shifted by `offset` along x ("oct.off").
+PolygonSoup octahedronSoup(double offset = 0.0);
+/// n x n grid on the unit square; quads split into two triangles or kept as quads ("grid").
+PolygonSoup gridSoup(int n, bool quads = false);
+/// Appends `other`'s vertices and faces to `soup` (a second component).
+void appendSoup(PolygonSoup& soup, const PolygonSoup& other);
 
 }  // namespace mspline::test
