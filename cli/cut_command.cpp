@@ -5,6 +5,7 @@
 #include "cli/command.h"
 #include "cli/mesh_report.h"
 #include "io/load_mesh.h"
+#include "io/read_mesh.h"
 #include "io/write_mesh.h"
 #include "structure/cut_to_disk.h"
 
@@ -53,6 +54,7 @@ void addCutCommand(CLI::App& app, Command& command) {
     command.name = "cut";
     command.run = [&command, arguments] {
       auto start = std::chrono::steady_clock::now();
+      io::meshFormatFromPath(arguments->output);  // fail before the work, not after
       io::LoadedMesh loaded = io::loadMesh(arguments->mesh);
       if (!arguments->quiet) {
         printNotes(loaded.warnings, loaded.repairs);

@@ -4,6 +4,7 @@
 #include "cli/command.h"
 #include "cli/mesh_report.h"
 #include "io/load_mesh.h"
+#include "io/read_mesh.h"
 #include "io/write_mesh.h"
 #include "structure/errors.h"
 
@@ -33,6 +34,7 @@ void addRepairCommand(CLI::App& app, Command& command) {
   sub->callback([&command, arguments] {
     command.name = "repair";
     command.run = [&command, arguments] {
+      io::meshFormatFromPath(arguments->output);  // fail before the work, not after
       io::LoadOptions options;
       options.repair = arguments->repair;
       options.requireValid = false;

@@ -6,3 +6,4 @@ find_package(CLI11 REQUIRED)
 find_package(nlohmann_json 3 REQUIRED)
 include(OpenSubdiv)
 
+include(Cholmod)

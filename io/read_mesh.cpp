@@ -25,20 +25,23 @@ namespace {
 }
 
 // The whole file in memory: one read is far faster than streaming, and lets the text parsers
-// work on a contiguous buffer.
+// work on a contiguous buffer. Only regular files: a FIFO would block on open and a device such
+// as /dev/zero never ends.
 std::string readWholeFile(const std::string& path) {
+  struct stat info {};
+  if (::stat(path.c_str(), &info) != 0) failSystem(path, "open", errno);
+  if (S_ISDIR(info.st_mode)) failSystem(path, "read", EISDIR);
+  if (!S_ISREG(info.st_mode))
+    throw structure::InputError(path + ": not a regular file (pipes and devices are not read)");
   int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) failSystem(path, "open", errno);
   struct FileCloser {
     int fd;
     ~FileCloser() { ::close(fd); }
   } closer{fd};
-  struct stat info {};
-  if (::fstat(fd, &info) != 0) failSystem(path, "inspect", errno);
-  if (S_ISDIR(info.st_mode)) failSystem(path, "read", EISDIR);
-  // Regular files are read in one go (the +1 sees the end at once); pipes grow the buffer.
-  std::string data(S_ISREG(info.st_mode) ? static_cast<std::size_t>(info.st_size) + 1 : 1 << 16,
-                   '\0');
+  // The +1 sees the end of the file in the first read; the loop still copes with a file that
+  // grows while it is read.
+  std::string data(static_cast<std::size_t>(info.st_size) + 1, '\0');
   std::size_t used = 0;
   for (;;) {
     if (used == data.size()) data.resize(2 * data.size());

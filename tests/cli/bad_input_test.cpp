@@ -103,7 +103,7 @@ TEST_CASE("bad_input: every case exits 2 with a clear message and writes nothing
   }
 }
 
-TEST_CASE("bad_input: missing file and directory instead of file", "[cli]") {
+TEST_CASE("bad_input: missing file, directory, device and FIFO instead of a file", "[cli]") {
   std::string dir = mspline::test::scratchDirectory("bad_input_missing");
   auto missing = runCommand(cliPath() + " info " + dir + "/nowhere.off");
   CHECK(missing.exitCode == 2);
@@ -113,6 +113,15 @@ TEST_CASE("bad_input: missing file and directory instead of file", "[cli]") {
   auto folder = runCommand(cliPath() + " info " + dir + "/folder.off");
   CHECK(folder.exitCode == 2);
   CHECK(firstLine(folder.err).find("folder.off") != std::string::npos);
+
+  // Devices and FIFOs would never end or block on open: refused at once.
+  fs::create_symlink("/dev/zero", fs::path(dir) / "zero.off");
+  auto device = runCommand("timeout 20 " + cliPath() + " info " + dir + "/zero.off");
+  CHECK(device.exitCode == 2);
+  CHECK(firstLine(device.err).find("not a regular file") != std::string::npos);
+  REQUIRE(runCommand("mkfifo " + dir + "/fifo.off").exitCode == 0);
+  auto fifo = runCommand("timeout 20 " + cliPath() + " info " + dir + "/fifo.off");
+  CHECK(fifo.exitCode == 2);
 }
 
 TEST_CASE("bad_input: usage errors exit 1, help exits 0", "[cli]") {
@@ -126,7 +135,7 @@ TEST_CASE("bad_input: usage errors exit 1, help exits 0", "[cli]") {
   CHECK(runCommand(cliPath() + " cut --help").exitCode == 0);
 }
 
-TEST_CASE("bad_input: writing into a missing directory fails cleanly", "[cli]") {
+TEST_CASE("bad_input: a missing output directory or unknown output format fails cleanly", "[cli]") {
   std::string dir = mspline::test::scratchDirectory("bad_output");
   fs::path input = fs::path(dir) / "tet.off";
   std::ofstream(input) << "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n"
@@ -135,4 +144,11 @@ TEST_CASE("bad_input: writing into a missing directory fails cleanly", "[cli]") 
       runCommand(cliPath() + " repair " + input.string() + " -o " + dir + "/no/such/dir/out.off");
   CHECK(result.exitCode == 2);
   CHECK(firstLine(result.err).find("out.off") != std::string::npos);
+
+  for (const char* command : {" repair ", " cut "}) {
+    auto unknown = runCommand(cliPath() + command + input.string() + " -o " + dir + "/out.xyz");
+    CHECK(unknown.exitCode == 2);
+    CHECK(firstLine(unknown.err).find("out.xyz") != std::string::npos);
+    CHECK_FALSE(fs::exists(dir + "/out.xyz"));
+  }
 }
