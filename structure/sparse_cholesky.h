@@ -25,8 +25,8 @@ struct CholeskyOptions {
 
 /// Factors symmetric positive definite matrices (column-major, int indices). Only the lower
 /// triangle (diagonal included) is read, so either the full symmetric matrix or its lower triangle
-/// may be passed. A semidefinite matrix (e.g. a Laplacian with its constant null space) must be made
-/// definite first, by pinning an unknown (see IndexMap) or a diagonal shift.
+/// may be passed. A semidefinite matrix (e.g. a Laplacian with its constant null space) must be
+/// made definite first, by pinning an unknown (see IndexMap) or a diagonal shift.
 ///
 /// Usage: analyze(A) once, then factorize(A') and solve(b) as often as needed while A' has A's
 /// pattern. Not copyable (it owns the solver's workspace); movable.
@@ -52,6 +52,7 @@ class SparseCholesky {
   void compute(const Eigen::SparseMatrix<double>& matrix);
 
   /// Solves A x = rhs with the last factorized A. Throws InternalError without a valid factor.
+  /// Reuses workspace kept in the object, so concurrent solves need one object per thread.
   Eigen::VectorXd solve(const Eigen::VectorXd& rhs) const;
 
   /// Number of rows (and columns) of the analyzed matrix; 0 before analyze().

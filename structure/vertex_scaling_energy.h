@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include "structure/index_map.h"
 #include "structure/tri_mesh.h"
 
 namespace mspline::structure {
@@ -48,8 +49,8 @@ Eigen::VectorXd cornerAngles(const TriMesh& mesh, const Eigen::VectorXd& lengths
 /// Curvature of every vertex: 2 pi - angle sum inside, pi - angle sum on the boundary.
 Eigen::VectorXd vertexCurvatures(const TriMesh& mesh, const Eigen::VectorXd& lengths);
 
-/// The Ricci energy at u (up to an additive constant that does not depend on u). `targetCurvature`
-/// holds K_target (interior) or the target geodesic curvature (boundary) per vertex.
+/// The Ricci energy at u, normalized to E(0) = 0. `targetCurvature` holds K_target (interior) or
+/// the target geodesic curvature (boundary) per vertex.
 double vertexScalingEnergy(const TriMesh& mesh, const Eigen::VectorXd& inputLengths,
                            const Eigen::VectorXd& u, const Eigen::VectorXd& targetCurvature);
 
@@ -65,11 +66,11 @@ Eigen::SparseMatrix<double> vertexScalingHessian(const TriMesh& mesh,
                                                  const Eigen::VectorXd& inputLengths,
                                                  const Eigen::VectorXd& u);
 
-/// The rows and columns of the Hessian that belong to unknowns: `unknownOf[v]` is the unknown of
-/// vertex v, or -1 for a vertex whose u is held fixed. The result is square of size `unknowns`.
+/// The rows and columns of the Hessian that belong to the unknowns of `unknowns` (vertices whose u
+/// is held fixed are excluded), built directly in that numbering.
 Eigen::SparseMatrix<double> vertexScalingHessian(const TriMesh& mesh,
                                                  const Eigen::VectorXd& inputLengths,
                                                  const Eigen::VectorXd& u,
-                                                 const std::vector<int>& unknownOf, int unknowns);
+                                                 const IndexMap& unknowns);
 
 }  // namespace mspline::structure

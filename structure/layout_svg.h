@@ -1,0 +1,26 @@
+#pragma once
+// A picture of a flat layout as SVG text: the triangles, the seams, the cones and, for a flat
+// torus, a piece of the universal cover tiled by the periods.
+#include <string>
+
+#include "structure/flat_layout.h"
+#include "structure/tri_mesh.h"
+
+namespace mspline::structure {
+
+struct LayoutSvgOptions {
+  /// Width of the drawing in pixels; the height follows the layout's aspect ratio.
+  double width = 800.0;
+  /// With periods: also draw the layout translated by i p0 + j p1 for all |i|, |j| <= coverRadius
+  /// (1 gives the 3 x 3 copies of a finite piece of the universal cover). 0 draws the layout alone.
+  int coverRadius = 0;
+};
+
+/// The SVG document: one <polygon> per drawn face (the layout's copy is filled darker), each
+/// seam edge in red on both sides, the boundary in black, cones as blue dots and, with periods,
+/// the fundamental parallelogram as a green <path>. Throws InputError for coverRadius > 0 on a
+/// layout without periods or for coverRadius < 0.
+std::string layoutSvg(const TriMesh& mesh, const FlatLayout& layout,
+                      const LayoutSvgOptions& options = {});
+
+}  // namespace mspline::structure
