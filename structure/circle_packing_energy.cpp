@@ -230,17 +230,15 @@ Eigen::VectorXd circlePackingGradient(const TriMesh& mesh, const CirclePackingMe
 Eigen::SparseMatrix<double> circlePackingHessian(const TriMesh& mesh,
                                                  const CirclePackingMetric& metric,
                                                  const Eigen::VectorXd& u) {
-  std::vector<int> identity(mesh.n_vertices());
-  for (std::size_t i = 0; i < identity.size(); ++i) identity[i] = static_cast<int>(i);
-  return circlePackingHessian(mesh, metric, u, identity, static_cast<int>(identity.size()));
+  return circlePackingHessian(mesh, metric, u, IndexMap(mesh.n_vertices(), {}));
 }
 
 Eigen::SparseMatrix<double> circlePackingHessian(const TriMesh& mesh,
                                                  const CirclePackingMetric& metric,
                                                  const Eigen::VectorXd& u,
-                                                 const std::vector<int>& unknownOf, int unknowns) {
+                                                 const IndexMap& unknowns) {
   checkSizes(mesh, metric, u);
-  MSPLINE_ASSERT(unknownOf.size() == mesh.n_vertices(), "one unknown index per vertex");
+  MSPLINE_ASSERT(unknowns.count() == mesh.n_vertices(), "one index-map entry per vertex");
   std::vector<Eigen::Triplet<double>> triplets;
   triplets.reserve(9 * mesh.n_faces());
   for (const auto f : mesh.faces()) {
@@ -271,15 +269,15 @@ Eigen::SparseMatrix<double> circlePackingHessian(const TriMesh& mesh,
     }
     // K_a = 2 pi - (angle sum), so the face adds -dtheta_a/du_p to dK_a/du_p.
     for (int a = 0; a < 3; ++a) {
-      const int i = unknownOf[s.corner[a]];
+      const int i = unknowns.unknown(s.corner[a]);
       if (i < 0) continue;
       for (int p = 0; p < 3; ++p) {
-        const int j = unknownOf[s.corner[p]];
+        const int j = unknowns.unknown(s.corner[p]);
         if (j >= 0) triplets.emplace_back(i, j, -dThetaDu[a][p]);
       }
     }
   }
-  Eigen::SparseMatrix<double> hessian(unknowns, unknowns);
+  Eigen::SparseMatrix<double> hessian(unknowns.size(), unknowns.size());
   hessian.setFromTriplets(triplets.begin(), triplets.end());
   return hessian;
 }

@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include "structure/index_map.h"
 #include "structure/tri_mesh.h"
 
 namespace mspline::structure {
@@ -60,11 +61,11 @@ Eigen::SparseMatrix<double> circlePackingHessian(const TriMesh& mesh,
                                                  const CirclePackingMetric& metric,
                                                  const Eigen::VectorXd& u);
 
-/// The rows and columns of the Hessian that belong to unknowns: `unknownOf[v]` is the unknown of
-/// vertex v, or -1 for a vertex whose u is held fixed. The result is square of size `unknowns`.
+/// The rows and columns of the Hessian that belong to the unknowns of `unknowns`, built directly in
+/// that numbering.
 Eigen::SparseMatrix<double> circlePackingHessian(const TriMesh& mesh,
                                                  const CirclePackingMetric& metric,
                                                  const Eigen::VectorXd& u,
-                                                 const std::vector<int>& unknownOf, int unknowns);
+                                                 const IndexMap& unknowns);
 
 }  // namespace mspline::structure

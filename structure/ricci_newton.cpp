@@ -34,6 +34,11 @@ std::string describeFaces(const std::vector<int>& faces) {
 
 RicciResult solveVertexScaling(const TriMesh& mesh, const CurvatureTarget& target,
                                const RicciNewtonOptions& options) {
+  return solveRicciFlow(mesh, vertexScalingScheme(mesh), target, options);
+}
+
+RicciResult solveRicciFlow(const TriMesh& mesh, const RicciScheme& scheme,
+                           const CurvatureTarget& target, const RicciNewtonOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const auto topology = analyzeTopology(mesh);
   if (mesh.n_faces() == 0 || topology.components != 1) {
@@ -53,7 +58,6 @@ RicciResult solveVertexScaling(const TriMesh& mesh, const CurvatureTarget& targe
   if (!anyFixed && !excluded.empty()) excluded[0] = 1;
   const IndexMap unknowns(mesh.n_vertices(), excluded);
 
-  const Eigen::VectorXd l0 = edgeLengths(mesh);
   RicciResult result;
   result.u = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(mesh.n_vertices()));
   const double tolerance = options.tolerance * 2.0 * kPi;
@@ -62,13 +66,13 @@ RicciResult solveVertexScaling(const TriMesh& mesh, const CurvatureTarget& targe
     result.converged = status == RicciStatus::Converged;
     if (status != RicciStatus::DegenerateTriangles) result.degenerateFaces.clear();
     result.message = message;
-    result.edgeLengths = scaledEdgeLengths(mesh, l0, result.u);
+    result.edgeLengths = scheme.lengths(result.u);
     result.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
   };
 
-  result.degenerateFaces = degenerateFaces(mesh, l0);
+  result.degenerateFaces = degenerateFaces(mesh, scheme.lengths(result.u));
   if (!result.degenerateFaces.empty()) {
     return finish(RicciStatus::DegenerateTriangles,
                   "the input has " + describeFaces(result.degenerateFaces) +
@@ -83,8 +87,8 @@ RicciResult solveVertexScaling(const TriMesh& mesh, const CurvatureTarget& targe
 
   SparseCholesky solver;
   bool analyzed = false;
-  double energy = vertexScalingEnergy(mesh, l0, result.u, target.curvature);
-  Eigen::VectorXd gradient = vertexScalingGradient(mesh, l0, result.u, target.curvature);
+  double energy = scheme.energy(result.u, target.curvature);
+  Eigen::VectorXd gradient = scheme.gradient(result.u, target.curvature);
   for (int iteration = 0;; ++iteration) {
     result.iterations = iteration;
     result.maxCurvatureError = maxAbsOnUnknowns(gradient, unknowns);
@@ -106,7 +110,7 @@ RicciResult solveVertexScaling(const TriMesh& mesh, const CurvatureTarget& targe
       return finish(RicciStatus::MaxIterations, "no convergence" + where.str());
     }
 
-    const Eigen::SparseMatrix<double> hessian = vertexScalingHessian(mesh, l0, result.u, unknowns);
+    const Eigen::SparseMatrix<double> hessian = scheme.hessian(result.u, unknowns);
     const Eigen::VectorXd g = unknowns.gather(gradient);
     Eigen::VectorXd direction;
     try {
@@ -134,24 +138,23 @@ RicciResult solveVertexScaling(const TriMesh& mesh, const CurvatureTarget& targe
     int backtracks = 0;
     for (; backtracks <= options.maxBacktracks; ++backtracks, t *= 0.5) {
       const Eigen::VectorXd trial = step(result.u, direction, t);
-      std::vector<int> degenerate = degenerateFaces(mesh, scaledEdgeLengths(mesh, l0, trial));
+      std::vector<int> degenerate = degenerateFaces(mesh, scheme.lengths(trial));
       if (!degenerate.empty()) {
         ++degenerateTrials;
         lastDegenerate = std::move(degenerate);
         continue;
       }
-      const double trialEnergy = vertexScalingEnergy(mesh, l0, trial, target.curvature);
+      const double trialEnergy = scheme.energy(trial, target.curvature);
       bool ok = trialEnergy <= energy + options.armijo * t * slope;
       Eigen::VectorXd trialGradient;
       if (!ok && trialEnergy - energy <= roundoff) {
-        trialGradient = vertexScalingGradient(mesh, l0, trial, target.curvature);
+        trialGradient = scheme.gradient(trial, target.curvature);
         ok = maxAbsOnUnknowns(trialGradient, unknowns) < result.maxCurvatureError;
       }
       if (ok) {
         result.u = trial;
         energy = trialEnergy;
-        gradient = trialGradient.size() ? trialGradient
-                                        : vertexScalingGradient(mesh, l0, trial, target.curvature);
+        gradient = trialGradient.size() ? trialGradient : scheme.gradient(trial, target.curvature);
         accepted = true;
         break;
       }

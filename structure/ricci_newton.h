@@ -1,5 +1,5 @@
 #pragma once
-// Newton's method on the vertex-scaling Ricci energy (see vertex_scaling_energy.h): finds scale
+// Newton's method on the convex Ricci energy of a metric scheme (ricci_scheme.h): finds conformal
 // factors u whose metric has the target curvatures, on a fixed triangulation (no edge flips).
 #include <string>
 #include <vector>
@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 
 #include "structure/curvature_target.h"
+#include "structure/ricci_scheme.h"
 #include "structure/tri_mesh.h"
 
 namespace mspline::structure {
@@ -67,7 +68,8 @@ struct RicciResult {
   double seconds = 0.0;
   /// Scale factors per vertex (0 at fixed vertices and at the pinned gauge vertex).
   Eigen::VectorXd u;
-  /// Edge lengths exp((u_i + u_j) / 2) l0_ij of the returned metric, by edge index.
+  /// Edge lengths of the returned metric, by edge index (exp((u_i + u_j) / 2) l0_ij for vertex
+  /// scaling).
   Eigen::VectorXd edgeLengths;
   /// Faces that violated the triangle inequality, in the input or in the rejected trial steps that
   /// stopped the solve (the returned metric is valid unless the input was not); empty unless status
@@ -81,5 +83,10 @@ struct RicciResult {
 /// several components or no faces. Numerical failure is reported in the result, never thrown.
 RicciResult solveVertexScaling(const TriMesh& mesh, const CurvatureTarget& target,
                                const RicciNewtonOptions& options = {});
+
+/// The same Newton method for any scheme (vertex scaling, circle packings); the degeneracy checks
+/// use the scheme's lengths, since a circle packing's initial metric need not be the input's.
+RicciResult solveRicciFlow(const TriMesh& mesh, const RicciScheme& scheme,
+                           const CurvatureTarget& target, const RicciNewtonOptions& options = {});
 
 }  // namespace mspline::structure

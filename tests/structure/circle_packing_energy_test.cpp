@@ -5,10 +5,10 @@
 #include <random>
 
 #include <Eigen/Dense>
-#include <Eigen/SparseCholesky>
 
 #include "structure/circle_packing_energy.h"
 #include "structure/curvature_target.h"
+#include "structure/ricci_newton.h"
 #include "structure/vertex_scaling_energy.h"
 #include "support/test_data.h"
 #include "support/test_meshes.h"
@@ -100,56 +100,25 @@ struct NewtonRun {
   double maxCurvatureError = 0.0;
 };
 
-// Newton's method with an Armijo line search on the quadrature energy, vertex 0 pinned for the
-// gauge (closed meshes, nothing fixed), Eigen's LDLT for the steps; trial steps that break the
-// triangle inequality are rejected. Requires convergence to max |K - K_target| <= 1e-10.
+// The project's Newton solver on a circle-packing scheme, vertex 0 pinned for the gauge (closed
+// meshes, nothing fixed). Requires convergence to max |K - K_target| <= 1e-10.
 NewtonRun newtonSolve(const std::string& name, const TriMesh& mesh,
                       const CirclePackingMetric& metric, const Eigen::VectorXd& target) {
   const auto start = std::chrono::steady_clock::now();
-  const int n = static_cast<int>(mesh.n_vertices());
-  std::vector<int> unknownOf(n);
-  for (int v = 0; v < n; ++v) unknownOf[v] = v - 1;
+  structure::CurvatureTarget curvatureTarget;
+  curvatureTarget.curvature = target;
+  curvatureTarget.fixed.assign(mesh.n_vertices(), 0);
+  structure::RicciNewtonOptions options;
+  options.tolerance = 1e-10 / (2.0 * kPi);  // the solver's tolerance is relative to 2 pi
+  const structure::RicciResult result = structure::solveRicciFlow(
+      mesh, structure::circlePackingScheme(mesh, metric, name), curvatureTarget, options);
+  INFO(result.message);
+  REQUIRE(result.converged);
   NewtonRun run;
-  run.u = Eigen::VectorXd::Zero(n);
-  double energy = structure::circlePackingEnergy(mesh, metric, run.u, target);
-  Eigen::VectorXd gradient = structure::circlePackingGradient(mesh, metric, run.u, target);
-  const double initialError = gradient.cwiseAbs().maxCoeff();
-  for (;; ++run.iterations) {
-    run.maxCurvatureError = gradient.cwiseAbs().maxCoeff();
-    if (run.maxCurvatureError <= 1e-10 || run.iterations == 50) break;
-    const Eigen::SparseMatrix<double> hessian =
-        structure::circlePackingHessian(mesh, metric, run.u, unknownOf, n - 1);
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(hessian);
-    REQUIRE(solver.info() == Eigen::Success);
-    const Eigen::VectorXd g = gradient.tail(n - 1);
-    const Eigen::VectorXd direction = -solver.solve(g);
-    const double slope = g.dot(direction);
-    REQUIRE(slope < 0.0);
-    double t = std::min(1.0, 8.0 / direction.cwiseAbs().maxCoeff());
-    bool accepted = false;
-    for (int backtrack = 0; backtrack < 60 && !accepted; ++backtrack, t *= 0.5) {
-      Eigen::VectorXd trial = run.u;
-      trial.tail(n - 1) += t * direction;
-      if (!structure::degenerateFaces(mesh,
-                                      structure::circlePackingEdgeLengths(mesh, metric, trial))
-               .empty())
-        continue;
-      const double trialEnergy = structure::circlePackingEnergy(mesh, metric, trial, target);
-      const Eigen::VectorXd trialGradient =
-          structure::circlePackingGradient(mesh, metric, trial, target);
-      // Near the solution the decrease sinks below the energy's rounding; then a smaller
-      // curvature error decides.
-      accepted = trialEnergy <= energy + 1e-4 * t * slope ||
-                 (trialEnergy - energy <= 1e-12 * (1.0 + std::abs(energy)) &&
-                  trialGradient.cwiseAbs().maxCoeff() < run.maxCurvatureError);
-      if (accepted) {
-        run.u = trial;
-        energy = trialEnergy;
-        gradient = trialGradient;
-      }
-    }
-    REQUIRE(accepted);
-  }
+  run.u = result.u;
+  run.iterations = result.iterations;
+  run.maxCurvatureError = result.maxCurvatureError;
+  const double initialError = result.log.front().maxCurvatureError;
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   WARN(name << ": " << run.iterations << " Newton steps, curvature error " << initialError << " -> "
