@@ -24,11 +24,14 @@ struct Command {
   bool json = false;
   /// Runs the command and returns its exit code; throws mspline errors for main to report.
   std::function<int()> run;
+  /// With --json: what a failing command had found before it failed; main adds "error" to it.
+  Json partialResult;
 };
 
 void addInfoCommand(CLI::App& app, Command& command);
 void addRepairCommand(CLI::App& app, Command& command);
 void addCutCommand(CLI::App& app, Command& command);
+void addFlattenCommand(CLI::App& app, Command& command);
 
 /// Prints one JSON object on stdout.
 void printJson(const Json& object);

@@ -15,7 +15,11 @@ namespace {
 
 int reportError(const Command& command, const char* kind, const std::string& message, int code) {
   std::cerr << "mspline " << command.name << ": error: " << message << std::endl;
-  if (command.json) printJson(Json{{"error", {{"kind", kind}, {"message", message}}}});
+  if (command.json) {
+    Json result = command.partialResult.is_object() ? command.partialResult : Json::object();
+    result["error"] = {{"kind", kind}, {"message", message}};
+    printJson(result);
+  }
   return code;
 }
 
@@ -52,6 +56,7 @@ int main(int argc, char** argv) {
   addInfoCommand(app, command);
   addRepairCommand(app, command);
   addCutCommand(app, command);
+  addFlattenCommand(app, command);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -92,10 +92,12 @@ TEST_CASE("bad_input: every case exits 2 with a clear message and writes nothing
       CHECK(repair.exitCode == 2);
       CHECK_FALSE(fs::exists(output));
 
-      auto cut = runCommand(cliPath() + " cut " + input.string() + " -o " + output.string());
-      INFO("cut stderr: " << cut.err);
-      CHECK(cut.exitCode == 2);
-      CHECK_FALSE(fs::exists(output));
+      for (const char* command : {" cut ", " flatten "}) {
+        auto result = runCommand(cliPath() + command + input.string() + " -o " + output.string());
+        INFO(command << "stderr: " << result.err);
+        CHECK(result.exitCode == 2);
+        CHECK_FALSE(fs::exists(output));
+      }
       // No temporary file is left behind either.
       CHECK(std::distance(fs::directory_iterator(dir), fs::directory_iterator()) == 1);
       fs::remove(input);
