@@ -1,0 +1,107 @@
+// Benchmark: the whole flatten pipeline (cone placement, Newton on the Ricci energy, layout) on a
+// real scan subdivided to larger sizes, against one sparse Cholesky factorization (analysis +
+// numeric) of the same mesh's cotangent Laplacian, measured in the same run.
+// Targets (issue 3): total flatten time at most 10x that factorization; 1M faces in under 20 s and
+// under 2 GB. Each size runs in a child process so the peak memory is that size's alone.
+// Usage: flatten_bench [MESH [FACES...]]   (default: bunny00.off at its own size and ~1M faces)
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "io/load_mesh.h"
+#include "structure/cone_placement.h"
+#include "structure/cotan_laplacian.h"
+#include "structure/flat_layout.h"
+#include "structure/index_map.h"
+#include "structure/ricci_newton.h"
+#include "structure/sparse_cholesky.h"
+#include "structure/subdivide.h"
+
+using namespace mspline;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+void runSize(const structure::TriMesh& base, std::size_t faces) {
+  structure::TriMesh mesh = structure::subdivideToAtLeast(base, faces);
+
+  auto start = Clock::now();
+  std::vector<char> pinned(mesh.n_vertices(), 0);
+  pinned[0] = 1;  // the Laplacian of a closed surface is singular only along constants
+  structure::IndexMap map(mesh.n_vertices(), pinned);
+  Eigen::SparseMatrix<double> laplacian = map.restrict(structure::cotanLaplacian(mesh));
+  structure::SparseCholesky cholesky;
+  auto factorStart = Clock::now();
+  cholesky.analyze(laplacian);
+  cholesky.factorize(laplacian);
+  double factorization = since(factorStart);
+  double assembly = std::chrono::duration<double>(factorStart - start).count();
+
+  start = Clock::now();
+  structure::ConePlacementOptions coneOptions;
+  coneOptions.quantize = true;
+  auto cones = structure::placeCones(mesh, coneOptions);
+  double coneSeconds = since(start);
+  auto target = structure::flatTarget(mesh, cones.cones);
+  auto newtonStart = Clock::now();
+  auto flow = structure::solveVertexScaling(mesh, target);
+  double newtonSeconds = since(newtonStart);
+  double layoutSeconds = 0;
+  int flipped = -1;
+  if (flow.converged) {
+    auto layoutStart = Clock::now();
+    auto layout = structure::layoutFlatMetric(mesh, flow.edgeLengths);
+    layoutSeconds = since(layoutStart);
+    flipped = layout.flippedTriangles;
+  }
+  double total = since(start);
+
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  std::printf(
+      "flatten_bench: %zu faces, %zu vertices\n"
+      "  one factorization (analyze + factorize): %.3f s (Laplacian assembly %.3f s)\n"
+      "  flatten: cones %.3f s (%zu cones), Newton %.3f s (%d steps, %s, error %.2e), "
+      "layout %.3f s (%d flipped)\n"
+      "  total %.3f s = %.1fx one factorization (target <= 10x); peak %.0f MiB\n",
+      mesh.n_faces(), mesh.n_vertices(), factorization, assembly, coneSeconds, cones.cones.size(),
+      newtonSeconds, flow.iterations, flow.converged ? "converged" : "NOT converged",
+      flow.maxCurvatureError, layoutSeconds, flipped, total, total / factorization,
+      usage.ru_maxrss / 1024.0);
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string source = argc > 1 ? argv[1] : MSPLINE_SOURCE_DIR "/data/meshes/bunny00.off";
+  std::vector<std::size_t> sizes;
+  for (int i = 2; i < argc; ++i) sizes.push_back(std::stoul(argv[i]));
+  if (sizes.empty()) sizes = {0, 1000000};
+  auto base = io::loadMesh(source);
+  std::printf("flatten_bench: %s (%zu faces)\n", source.c_str(), base.mesh->n_faces());
+  std::fflush(stdout);
+  for (std::size_t faces : sizes) {
+    pid_t pid = fork();
+    if (pid == 0) {
+      runSize(*base.mesh, faces);
+      _exit(0);
+    }
+    int status = 0;
+    waitpid(pid, &status, 0);
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+      std::fprintf(stderr, "flatten_bench: the run at %zu faces failed\n", faces);
+      return 1;
+    }
+  }
+  return 0;
+}
