@@ -19,6 +19,19 @@ namespace mspline::structure {
 
 namespace {
 
+/// Gauss-Lagrange reduction: the same lattice spanned by a shortest vector and a shortest one
+/// independent of it, so copies of the fundamental domain tile a compact patch, not a thin band.
+void reduceLatticeBasis(std::array<Eigen::Vector2d, 2>& basis) {
+  auto& [a, b] = basis;
+  if (a.squaredNorm() > b.squaredNorm()) std::swap(a, b);
+  for (;;) {
+    const double m = std::round(a.dot(b) / a.squaredNorm());
+    b -= m * a;
+    if (b.squaredNorm() >= a.squaredNorm()) return;
+    std::swap(a, b);
+  }
+}
+
 constexpr double kPi = 3.14159265358979323846;
 
 double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
@@ -296,6 +309,7 @@ FlatLayout layoutFlatMetric(const TriMesh& mesh, const Eigen::VectorXd& edgeLeng
                      "a homotopy loop's closing edge is not cut");
       layout.periods[k] = layout.seams[it - layout.cutEdges.begin()].translation;
     }
+    reduceLatticeBasis(layout.periods);
     const auto base = std::find(layout.chartSourceVertex.begin(), layout.chartSourceVertex.end(),
                                 basis.baseVertex);
     const Eigen::Vector2d o =
