@@ -7,7 +7,10 @@
 #include <numeric>
 #include <sstream>
 
+#include <Eigen/LU>
+
 #include "structure/errors.h"
+#include "structure/index_map.h"
 #include "structure/sparse_cholesky.h"
 #include "structure/topology.h"
 #include "structure/vertex_scaling_energy.h"
@@ -19,44 +22,54 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kQuarter = kPi / 2.0;
 
-// The input's cotangent Laplacian with a fixed pattern; any set of vertices can be held at u = 0 by
-// turning their rows and columns into identity ones, so one symbolic analysis serves every solve.
-class PinnedLaplacian {
+// The input's cotangent Laplacian L, factorized once with u = 0 held at the base vertices (the
+// boundary, or vertex 0 as the gauge of a closed surface). Holding u = 0 at further vertices (the
+// cones) changes the system by one rank per vertex, so it is handled by the capacitance-matrix
+// method on the Green's functions G e_c of the base system instead of refactorizing.
+class BaseLaplacian {
  public:
-  explicit PinnedLaplacian(const TriMesh& mesh)
+  BaseLaplacian(const TriMesh& mesh, const std::vector<char>& held)
       : laplacian_(vertexScalingHessian(
             mesh, edgeLengths(mesh),
             Eigen::VectorXd::Zero(static_cast<Eigen::Index>(mesh.n_vertices())))),
-        system_(laplacian_) {
-    solver_.analyze(system_);
-  }
-
-  const Eigen::SparseMatrix<double>& laplacian() const { return laplacian_; }
-
-  // Solves L u = rhs on the vertices with pinned[v] == 0 and u = 0 on the others.
-  Eigen::VectorXd solve(const std::vector<char>& pinned, Eigen::VectorXd rhs) {
-    for (int col = 0; col < system_.outerSize(); ++col) {
-      Eigen::SparseMatrix<double>::InnerIterator base(laplacian_, col);
-      for (Eigen::SparseMatrix<double>::InnerIterator it(system_, col); it; ++it, ++base) {
-        const auto row = it.row();
-        it.valueRef() = pinned[row] || pinned[col] ? (row == col ? 1.0 : 0.0) : base.value();
-      }
-    }
-    for (std::size_t v = 0; v < pinned.size(); ++v)
-      if (pinned[v]) rhs[static_cast<Eigen::Index>(v)] = 0.0;
+        map_(mesh.n_vertices(), held) {
+    const Eigen::SparseMatrix<double> system = map_.restrict(laplacian_);
     try {
-      solver_.factorize(system_);
+      solver_.compute(system);
     } catch (const SolverError& e) {
       throw SolverError(std::string("cone placement: the cotangent Laplacian of the input could "
                                     "not be factorized (degenerate faces?): ") +
                         e.what());
     }
-    return solver_.solve(rhs);
+  }
+
+  const Eigen::SparseMatrix<double>& laplacian() const { return laplacian_; }
+
+  // Solves L u = rhs on the vertices that are not held and u = 0 on the held ones.
+  Eigen::VectorXd solve(const Eigen::VectorXd& rhs) const {
+    Eigen::VectorXd u = Eigen::VectorXd::Zero(rhs.size());
+    map_.scatter(solver_.solve(map_.gather(rhs)), u);
+    return u;
+  }
+
+  // The Green's function of vertex v: solve(e_v), zero when v is held.
+  Eigen::VectorXd green(int v) const {
+    Eigen::VectorXd unit = Eigen::VectorXd::Zero(laplacian_.rows());
+    unit[v] = 1.0;
+    return solve(unit);
+  }
+
+  // (L u)_v, from column v of the symmetric L.
+  double apply(const Eigen::VectorXd& u, int v) const {
+    double sum = 0.0;
+    for (Eigen::SparseMatrix<double>::InnerIterator it(laplacian_, v); it; ++it)
+      sum += it.value() * u[it.row()];
+    return sum;
   }
 
  private:
   Eigen::SparseMatrix<double> laplacian_;
-  Eigen::SparseMatrix<double> system_;
+  IndexMap map_;
   SparseCholesky solver_;
 };
 
@@ -75,9 +88,12 @@ Eigen::VectorXd vertexAreas(const TriMesh& mesh) {
   return area;
 }
 
-// Hop distance of every vertex from the sources (large where unreachable).
-std::vector<int> hopDistance(const TriMesh& mesh, const std::vector<int>& sources) {
-  std::vector<int> distance(mesh.n_vertices(), std::numeric_limits<int>::max());
+// Lowers `distance` (hops from the earlier sources, `limit` or more where farther) to the hops from
+// the nearest of the earlier and the new sources, where that is below `limit`; the search stops
+// where an earlier source is as close or the limit is reached, so each new cone costs only its
+// neighbourhood.
+void addHopSources(const TriMesh& mesh, const std::vector<int>& sources, int limit,
+                   std::vector<int>& distance) {
   std::deque<int> queue;
   for (int s : sources) {
     distance[s] = 0;
@@ -86,6 +102,7 @@ std::vector<int> hopDistance(const TriMesh& mesh, const std::vector<int>& source
   while (!queue.empty()) {
     const int v = queue.front();
     queue.pop_front();
+    if (distance[v] + 1 >= limit) continue;
     for (const auto w : mesh.vv_range(OpenMesh::VertexHandle(v))) {
       if (distance[w.idx()] > distance[v] + 1) {
         distance[w.idx()] = distance[v] + 1;
@@ -93,7 +110,6 @@ std::vector<int> hopDistance(const TriMesh& mesh, const std::vector<int>& source
       }
     }
   }
-  return distance;
 }
 
 double distortionOf(const Eigen::VectorXd& u, bool closed) {
@@ -160,9 +176,18 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
     throw TopologyError("cone placement: the mesh has no interior vertex");
 
   const Eigen::VectorXd inputCurvature = vertexCurvatures(mesh, edgeLengths(mesh));
-  PinnedLaplacian system(mesh);
+  // Never a new cone: the boundary and the cones so far.
   std::vector<char> pinned(mesh.n_vertices(), 0);
   for (int v : boundary) pinned[v] = 1;
+  // The one factorization: u = 0 held on the boundary, or at vertex 0 (the gauge) when closed.
+  std::vector<char> held = pinned;
+  if (closed) held[0] = 1;
+  const BaseLaplacian system(mesh, held);
+  // Flat at every vertex that is not held; the rounds and the final solve start from it.
+  const Eigen::VectorXd flat = system.solve(-inputCurvature);
+  // Green's functions of the cones, in placement order.
+  std::vector<int> greenVertices;
+  std::vector<Eigen::VectorXd> greens;
 
   // Round 0. Closed: the conformal factor to constant curvature (2 pi chi spread by area), gauge
   // fixed at vertex 0 and then by mean zero; it is the flat metric itself on a torus. With a
@@ -171,12 +196,10 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
   if (closed) {
     const Eigen::VectorXd area = vertexAreas(mesh);
     const Eigen::VectorXd uniform = area * (2.0 * kPi * static_cast<double>(chi) / area.sum());
-    std::vector<char> gauge(mesh.n_vertices(), 0);
-    gauge[0] = 1;
-    u = system.solve(gauge, uniform - inputCurvature);
+    u = system.solve(uniform - inputCurvature);
     u.array() -= u.mean();
   } else {
-    u = system.solve(pinned, -inputCurvature);
+    u = flat;
   }
 
   ConePlacementResult result;
@@ -199,6 +222,8 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
         if (2.0 * kPi - c.curvature < minAngle) return false;
       return true;
     };
+    std::vector<int> hops(mesh.n_vertices(), std::numeric_limits<int>::max());
+    addHopSources(mesh, boundary, options.minSeparation, hops);
     std::string stop;
     for (;;) {
       const double distortion = result.distortionPerRound.back();
@@ -215,9 +240,6 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
         break;
       }
 
-      std::vector<int> sources = boundary;
-      for (const Cone& c : cones) sources.push_back(c.vertex);
-      const std::vector<int> hops = hopDistance(mesh, sources);
       int best = -1;
       for (Eigen::Index v = 0; v < n; ++v) {
         if (hops[v] < options.minSeparation || pinned[v]) continue;
@@ -229,14 +251,36 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
       }
       cones.push_back({best, 0.0});
       pinned[best] = 1;
+      addHopSources(mesh, {best}, options.minSeparation, hops);
+      greenVertices.push_back(best);
+      greens.push_back(system.green(best));
 
       // Flat at every free vertex, u = 0 at the cones and on the boundary; each cone keeps the
-      // curvature the linearized metric leaves there.
-      u = system.solve(pinned, -inputCurvature);
-      const Eigen::VectorXd linearCurvature = inputCurvature + system.laplacian() * u;
+      // curvature the linearized metric leaves there. That u is flat + sum_j w_j G e_j: the
+      // weights w are the cones' point curvatures, fixed by u = 0 at the cones (the capacitance
+      // system). Closed: the base system drops vertex 0's row, which holds again iff the weights
+      // sum to the total input curvature (the rows of L sum to zero), and a constant t (last
+      // unknown) replaces the gauge u_0 = 0.
+      const auto m = static_cast<Eigen::Index>(cones.size());
+      const Eigen::Index size = closed ? m + 1 : m;
+      Eigen::MatrixXd capacitance = Eigen::MatrixXd::Zero(size, size);
+      Eigen::VectorXd rhs(size);
+      for (Eigen::Index i = 0; i < m; ++i) {
+        for (Eigen::Index j = 0; j < m; ++j) capacitance(i, j) = greens[j][cones[i].vertex];
+        rhs[i] = -flat[cones[i].vertex];
+      }
+      if (closed) {
+        capacitance.row(m).head(m).setOnes();
+        capacitance.col(m).head(m).setOnes();
+        rhs[m] = inputCurvature.sum();
+      }
+      const Eigen::VectorXd weights = capacitance.partialPivLu().solve(rhs);
+      u = flat;
+      for (Eigen::Index j = 0; j < m; ++j) u += weights[j] * greens[j];
+      if (closed) u.array() += weights[m];
       double sum = 0.0;
       for (Cone& c : cones) {
-        c.curvature = linearCurvature[c.vertex];
+        c.curvature = inputCurvature[c.vertex] + system.apply(u, c.vertex);
         sum += c.curvature;
       }
       if (closed) {
@@ -283,13 +327,13 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
     }
   }
 
-  // The linear solve for the returned cones as curvature targets.
-  Eigen::VectorXd target = Eigen::VectorXd::Zero(n);
-  for (const Cone& c : result.cones) target[c.vertex] = c.curvature;
-  std::vector<char> held(mesh.n_vertices(), 0);
-  for (int v : boundary) held[v] = 1;
-  if (closed) held[0] = 1;
-  result.u = system.solve(held, target - inputCurvature);
+  // The linear solve for the returned cones as curvature targets (u = 0 where held), by linearity.
+  result.u = flat;
+  for (const Cone& c : result.cones) {
+    const auto at = std::find(greenVertices.begin(), greenVertices.end(), c.vertex);
+    result.u += c.curvature * (at != greenVertices.end() ? greens[at - greenVertices.begin()]
+                                                         : system.green(c.vertex));
+  }
   if (closed) result.u.array() -= result.u.mean();
   result.distortion = distortionOf(result.u, closed);
   message << "; linearized distortion " << result.distortion;

@@ -6,8 +6,10 @@
 // at every free vertex and u = 0 at the cones placed so far and on the boundary. The curvature the
 // linear solve leaves at a cone, K_input + (L u), becomes that cone's curvature, so on a closed
 // surface the cones carry exactly 2 pi chi. The next cone goes to the vertex of largest |u|. The
-// system keeps one sparsity pattern over all rounds (cones become identity rows), so the symbolic
-// Cholesky analysis is done once.
+// Laplacian is factorized once (boundary held, or one gauge vertex on a closed surface); each cone
+// adds one solve with that factor, its Green's function, and every round's u follows from a small
+// dense capacitance system, so the whole placement costs about one factorization plus one solve
+// per round. The Green's functions are kept: memory is (cones + 2) doubles per vertex.
 #include <string>
 #include <vector>
 

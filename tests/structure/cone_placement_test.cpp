@@ -3,10 +3,13 @@
 #include <cmath>
 #include <fstream>
 
+#include <Eigen/SparseCholesky>
+
 #include "structure/cone_file.h"
 #include "structure/cone_placement.h"
 #include "structure/curvature_target.h"
 #include "structure/errors.h"
+#include "structure/index_map.h"
 #include "structure/ricci_newton.h"
 #include "structure/topology.h"
 #include "structure/vertex_scaling_energy.h"
@@ -210,6 +213,48 @@ TEST_CASE("cone_placement: surfaces with boundary keep u = 0 there", "[structure
   for (std::size_t i = 0; i < quantized.cones.size(); ++i)
     CHECK(quantized.cones[i].curvature == quantized.quarterTurns[i] * (kPi / 2));
   checkConverged(cap, flatten("capped icosphere(3) quantized", cap, quantized));
+}
+
+// The cone curvatures K + L u with u the direct solve of L u = -K at the free vertices, u = 0 at the
+// cones and on the boundary (a factorization of that constrained system, independent of the Green's
+// function updates placeCones uses).
+std::vector<double> directConeCurvatures(const TriMesh& mesh, const std::vector<Cone>& cones) {
+  const Eigen::VectorXd lengths = structure::edgeLengths(mesh);
+  const Eigen::VectorXd curvature = structure::vertexCurvatures(mesh, lengths);
+  const Eigen::SparseMatrix<double> laplacian = structure::vertexScalingHessian(
+      mesh, lengths, Eigen::VectorXd::Zero(static_cast<Eigen::Index>(mesh.n_vertices())));
+  std::vector<char> held(mesh.n_vertices(), 0);
+  for (const auto v : mesh.vertices()) held[v.idx()] = mesh.is_boundary(v);
+  for (const Cone& c : cones) held[c.vertex] = 1;
+  const structure::IndexMap map(mesh.n_vertices(), held);
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(map.restrict(laplacian));
+  REQUIRE(solver.info() == Eigen::Success);
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(curvature.size());
+  map.scatter(solver.solve(map.gather(-curvature)), u);
+  const Eigen::VectorXd linear = curvature + laplacian * u;
+  std::vector<double> result;
+  for (const Cone& c : cones) result.push_back(linear[c.vertex]);
+  return result;
+}
+
+TEST_CASE("cone_placement: cone curvatures equal the direct constrained solve", "[structure]") {
+  // Closed (vertex 0, the gauge of the base system, is among the icosphere's cones) and with a
+  // boundary.
+  TriMesh cap = test::icosphere(3);
+  for (const auto f : cap.faces()) {
+    OpenMesh::Vec3d centroid(0, 0, 0);
+    for (const auto v : cap.fv_range(f)) centroid += cap.point(v);
+    if (centroid[2] < -3 * 0.6) cap.delete_face(f, true);
+  }
+  cap.garbage_collection();
+  for (const TriMesh& mesh : {test::icosphere(3), test::doubleTorus(12), cap}) {
+    const auto placement = structure::placeCones(mesh);
+    REQUIRE_FALSE(placement.cones.empty());
+    const auto direct = directConeCurvatures(mesh, placement.cones);
+    for (std::size_t i = 0; i < direct.size(); ++i)
+      CHECK(placement.cones[i].curvature == Approx(direct[i]).margin(1e-9));
+  }
+  CHECK(structure::placeCones(test::icosphere(3)).cones.front().vertex == 0);
 }
 
 TEST_CASE("cone_placement: bunny00.off, automatic quantized cones", "[structure][slow]") {
