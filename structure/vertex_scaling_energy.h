@@ -21,7 +21,8 @@
 namespace mspline::structure {
 
 /// The Lobachevsky (Milnor) function L(x) = -int_0^x log|2 sin t| dt = Cl2(2x) / 2, pi-periodic
-/// and odd; accurate to about 1e-16 absolute (Bernoulli series of the Clausen integral).
+/// and odd; accurate to about 1e-16 absolute (two 16-term power series of the Clausen integral,
+/// about 0 and about pi).
 double lobachevsky(double x);
 
 /// Angles opposite the sides a, b, c of a triangle, by the half-angle formula (accurate for
