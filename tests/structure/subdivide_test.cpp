@@ -61,3 +61,47 @@ TEST_CASE("subdivide: to at least a face count", "[structure]") {
   CHECK(structure::subdivideToAtLeast(sphere, 10).n_faces() == 20);
   CHECK_THROWS_AS(structure::subdivideToAtLeast(TriMesh(), 10), structure::InputError);
 }
+
+TEST_CASE("subdivide: vertex V + e splits edge e into two output edges", "[structure]") {
+  // The promise another algorithm relies on to carry marked (cut) edges to the finer mesh.
+  for (const TriMesh& coarse : {test::gridDisk(3), test::doubleTorus(1)}) {
+    TriMesh fine = structure::subdivideMidpoint(coarse);
+    const int V = int(coarse.n_vertices());
+    CHECK(fine.n_edges() == 2 * coarse.n_edges() + 3 * coarse.n_faces());
+    for (auto e : coarse.edges()) {
+      auto h = coarse.halfedge_handle(e, 0);
+      TriMesh::VertexHandle mid(V + e.idx());
+      auto first = fine.find_halfedge(coarse.from_vertex_handle(h), mid);
+      auto second = fine.find_halfedge(mid, coarse.to_vertex_handle(h));
+      REQUIRE(first.is_valid());
+      REQUIRE(second.is_valid());
+      CHECK(fine.is_boundary(fine.edge_handle(first)) == coarse.is_boundary(e));
+      CHECK(fine.is_boundary(fine.edge_handle(second)) == coarse.is_boundary(e));
+    }
+  }
+}
+
+TEST_CASE("subdivide: subdivideToAtLeast stops at the first level reaching the target",
+          "[structure]") {
+  TriMesh sphere = test::icosphere(0);
+  CHECK(structure::subdivideToAtLeast(sphere, 20).n_faces() == 20);
+  CHECK(structure::subdivideToAtLeast(sphere, 21).n_faces() == 80);
+  CHECK(structure::subdivideToAtLeast(sphere, 1281).n_faces() == 5120);
+  // Repeated steps keep the numbering of single steps.
+  TriMesh twice = structure::subdivideMidpoint(structure::subdivideMidpoint(sphere));
+  TriMesh target = structure::subdivideToAtLeast(sphere, 300);
+  REQUIRE(target.n_vertices() == twice.n_vertices());
+  for (auto v : twice.vertices()) CHECK(target.point(v) == twice.point(v));
+}
+
+TEST_CASE("subdivide: a million output faces", "[structure]") {
+  // 327,680 -> 1,310,720 faces: about 0.3 s in a Release build.
+  TriMesh coarse = test::icosphere(7);
+  TriMesh fine = structure::subdivideMidpoint(coarse);
+  CHECK(fine.n_faces() == 4 * coarse.n_faces());
+  CHECK(long(fine.n_vertices()) - long(fine.n_edges()) + long(fine.n_faces()) == 2);
+  auto lastEdge = coarse.halfedge_handle(TriMesh::EdgeHandle(int(coarse.n_edges()) - 1), 0);
+  auto lastMid = 0.5 * (coarse.point(coarse.from_vertex_handle(lastEdge)) +
+                        coarse.point(coarse.to_vertex_handle(lastEdge)));
+  CHECK(fine.point(TriMesh::VertexHandle(int(fine.n_vertices()) - 1)) == lastMid);
+}
