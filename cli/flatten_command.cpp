@@ -17,6 +17,7 @@
 #include "structure/errors.h"
 #include "structure/flat_layout.h"
 #include "structure/layout_svg.h"
+#include "structure/ricci_flips.h"
 #include "structure/ricci_newton.h"
 #include "structure/topology.h"
 #include "structure/vertex_scaling_energy.h"
@@ -243,10 +244,25 @@ void addFlattenCommand(CLI::App& app, Command& command) {
                   // implemented yet, so none happen.
                   {"flips", 0}};
       if (!flow.converged) {
+        std::string diagnosis = flow.message;
+        if (flow.status == RicciStatus::DegenerateTriangles && a.scheme == "yamabe") {
+          progress("retrying with intrinsic Delaunay flips");
+          RicciFlipsResult flipped = solveVertexScalingWithFlips(mesh, target, options);
+          report["flip_solver"] = {{"converged", flipped.ricci.converged},
+                                   {"iterations", flipped.ricci.iterations},
+                                   {"flips", flipped.flips},
+                                   {"max_curvature_error", flipped.ricci.maxCurvatureError}};
+          if (flipped.ricci.converged)
+            diagnosis +=
+                "; with " + std::to_string(flipped.flips) +
+                " intrinsic Delaunay flips the metric converges (" +
+                std::to_string(flipped.ricci.iterations) +
+                " steps), but laying out an intrinsic triangulation is not implemented yet";
+        }
         stages["total"] = clock.lap();
         report["stage_seconds"] = stages;
         command.partialResult = report;
-        throw SolverError(a.mesh + ": the Ricci flow did not converge: " + flow.message +
+        throw SolverError(a.mesh + ": the Ricci flow did not converge: " + diagnosis +
                           " (nothing written)");
       }
 
