@@ -48,15 +48,6 @@ Quadrature gaussLegendre() {
   return q;
 }
 
-// Kahan's stable Heron formula, times 4; 0 for lengths violating the triangle inequality.
-double fourTimesArea(double a, double b, double c) {
-  if (a < b) std::swap(a, b);
-  if (a < c) std::swap(a, c);
-  if (b < c) std::swap(b, c);
-  const double p = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c));
-  return p > 0.0 ? std::sqrt(p) : 0.0;
-}
-
 // l^2 = a^2 + b^2 + 2 eta a b, written without cancellation for eta < 0.
 double packedLength(double a, double b, double eta) {
   const double square = eta >= 0.0 ? a * a + b * b + 2.0 * eta * a * b

@@ -26,15 +26,6 @@ std::array<double, 3> faceSides(const IntrinsicTriangulation& tri, int f,
   return {std::exp(x[0] - shift), std::exp(x[1] - shift), std::exp(x[2] - shift)};
 }
 
-// Kahan's stable Heron formula, times 4; 0 for lengths violating the triangle inequality.
-double fourTimesArea(double a, double b, double c) {
-  if (a < b) std::swap(a, b);
-  if (a < c) std::swap(a, c);
-  if (b < c) std::swap(b, c);
-  const double p = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c));
-  return p > 0.0 ? std::sqrt(p) : 0.0;
-}
-
 // Angle sums per vertex at u.
 Eigen::VectorXd angleSums(const IntrinsicTriangulation& tri, const Eigen::VectorXd& u) {
   Eigen::VectorXd sums = Eigen::VectorXd::Zero(tri.vertexCount());

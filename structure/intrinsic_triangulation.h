@@ -5,11 +5,12 @@
 //
 // The length of edge ij at scale factors u is exp(lambda0_ij + (u_i + u_j) / 2). A Ptolemy flip of
 // the diagonal e of the quadrilateral with sides a, b (one triangle) and c, d (the other, a
-// opposite c) sets l_new = (l_a l_c + l_b l_d) / l_e; since both sides scale by exp((u_k + u_l) / 2)
-// the flip commutes with scaling, so lambda0 is updated once, independently of u, and the surface
-// keeps its discrete conformal class (Gillespie, Springborn, Crane 2021, "Discrete conformal
-// equivalence of polyhedral surfaces"). Flipping to the ideal Delaunay triangulation at u makes the
-// Ricci energy of Bobenko, Pinkall and Springborn a convex C^1 function of u on all of R^n.
+// opposite c) sets l_new = (l_a l_c + l_b l_d) / l_e; since both sides scale by exp((u_k + u_l) /
+// 2) the flip commutes with scaling, so lambda0 is updated once, independently of u, and the
+// surface keeps its discrete conformal class (Gillespie, Springborn, Crane 2021, "Discrete
+// conformal equivalence of polyhedral surfaces"). Flipping to the ideal Delaunay triangulation at u
+// makes the Ricci energy of Bobenko, Pinkall and Springborn a convex C^1 function of u on all of
+// R^n.
 //
 // Storage is a corner table (Delta-complex: loops and multiple edges between two vertices are
 // allowed, as flips produce them): halfedge h lies in face h / 3, next(h) is the following one in

@@ -38,22 +38,7 @@ std::vector<int> degenerateIntrinsicFaces(const IntrinsicTriangulation& tri,
 RicciFlipsResult solveVertexScalingWithFlips(const TriMesh& mesh, const CurvatureTarget& target,
                                              const RicciNewtonOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  const auto topology = analyzeTopology(mesh);
-  if (mesh.n_faces() == 0 || topology.components != 1) {
-    throw TopologyError("Ricci flow needs a connected mesh with faces; this one has " +
-                        std::to_string(topology.components) + " components and " +
-                        std::to_string(mesh.n_faces()) + " faces");
-  }
-  MSPLINE_ASSERT(target.curvature.size() == static_cast<Eigen::Index>(mesh.n_vertices()) &&
-                     target.fixed.size() == mesh.n_vertices(),
-                 "one target per vertex");
-  checkGaussBonnet(mesh, target);
-
-  bool anyFixed = false;
-  for (char f : target.fixed) anyFixed = anyFixed || f;
-  std::vector<char> excluded = target.fixed;
-  if (!anyFixed && !excluded.empty()) excluded[0] = 1;
-  const IndexMap unknowns(mesh.n_vertices(), excluded);
+  const IndexMap unknowns = ricciUnknowns(mesh, target);
 
   RicciFlipsResult out;
   RicciResult& result = out.ricci;

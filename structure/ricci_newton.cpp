@@ -32,14 +32,7 @@ std::string describeFaces(const std::vector<int>& faces) {
 
 }  // namespace
 
-RicciResult solveVertexScaling(const TriMesh& mesh, const CurvatureTarget& target,
-                               const RicciNewtonOptions& options) {
-  return solveRicciFlow(mesh, vertexScalingScheme(mesh), target, options);
-}
-
-RicciResult solveRicciFlow(const TriMesh& mesh, const RicciScheme& scheme,
-                           const CurvatureTarget& target, const RicciNewtonOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
+IndexMap ricciUnknowns(const TriMesh& mesh, const CurvatureTarget& target) {
   const auto topology = analyzeTopology(mesh);
   if (mesh.n_faces() == 0 || topology.components != 1) {
     throw TopologyError("Ricci flow needs a connected mesh with faces; this one has " +
@@ -51,12 +44,22 @@ RicciResult solveRicciFlow(const TriMesh& mesh, const RicciScheme& scheme,
                  "one target per vertex");
   checkGaussBonnet(mesh, target);
 
-  // Unknowns: every vertex that is not fixed; with none fixed, vertex 0 is pinned for the gauge.
   bool anyFixed = false;
   for (char f : target.fixed) anyFixed = anyFixed || f;
   std::vector<char> excluded = target.fixed;
   if (!anyFixed && !excluded.empty()) excluded[0] = 1;
-  const IndexMap unknowns(mesh.n_vertices(), excluded);
+  return IndexMap(mesh.n_vertices(), excluded);
+}
+
+RicciResult solveVertexScaling(const TriMesh& mesh, const CurvatureTarget& target,
+                               const RicciNewtonOptions& options) {
+  return solveRicciFlow(mesh, vertexScalingScheme(mesh), target, options);
+}
+
+RicciResult solveRicciFlow(const TriMesh& mesh, const RicciScheme& scheme,
+                           const CurvatureTarget& target, const RicciNewtonOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  const IndexMap unknowns = ricciUnknowns(mesh, target);
 
   RicciResult result;
   result.u = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(mesh.n_vertices()));

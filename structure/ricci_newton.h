@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 
 #include "structure/curvature_target.h"
+#include "structure/index_map.h"
 #include "structure/ricci_scheme.h"
 #include "structure/tri_mesh.h"
 
@@ -83,6 +84,11 @@ struct RicciResult {
 /// several components or no faces. Numerical failure is reported in the result, never thrown.
 RicciResult solveVertexScaling(const TriMesh& mesh, const CurvatureTarget& target,
                                const RicciNewtonOptions& options = {});
+
+/// What every Ricci solver checks first (a connected mesh with faces: TopologyError; one target
+/// per vertex; Gauss-Bonnet: InputError), and its unknowns: the vertices that are not fixed, with
+/// vertex 0 pinned for the additive gauge when none is.
+IndexMap ricciUnknowns(const TriMesh& mesh, const CurvatureTarget& target);
 
 /// The same Newton method for any scheme (vertex scaling, circle packings); the degeneracy checks
 /// use the scheme's lengths, since a circle packing's initial metric need not be the input's.

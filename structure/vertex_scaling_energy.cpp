@@ -21,7 +21,7 @@ constexpr double kLog2 = 0.693147180559945309417;
 constexpr int kClausenTerms = 16;
 
 struct ClausenCoefficients {
-  std::array<double, kClausenTerms> small;  // zeta(2k) / (k (2k + 1))
+  std::array<double, kClausenTerms> small;   // zeta(2k) / (k (2k + 1))
   std::array<double, kClausenTerms> nearPi;  // lambda(2k) / (k (2k + 1))
 };
 
@@ -77,15 +77,6 @@ double clausen(double t) {
 double lobachevskyOfAngle(double alpha, const ClausenCoefficients& c) {
   const double t = 2.0 * alpha;
   return t <= kPi ? 0.5 * clausenReduced(t, c) : -0.5 * clausenReduced(2.0 * kPi - t, c);
-}
-
-// Kahan's stable Heron formula, times 4; 0 for lengths violating the triangle inequality.
-double fourTimesArea(double a, double b, double c) {
-  if (a < b) std::swap(a, b);
-  if (a < c) std::swap(a, c);
-  if (b < c) std::swap(b, c);
-  const double p = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c));
-  return p > 0.0 ? std::sqrt(p) : 0.0;
 }
 
 // The three side lengths of a face in the metric at u, with one common factor removed (angles and
@@ -216,7 +207,9 @@ Eigen::SparseMatrix<double> laplacianFromEdgeWeights(const TriMesh& mesh,
 
 }  // namespace
 
-double lobachevsky(double x) { return 0.5 * clausen(2.0 * x); }
+double lobachevsky(double x) {
+  return 0.5 * clausen(2.0 * x);
+}
 
 bool satisfiesTriangleInequality(double a, double b, double c) {
   if (a < b) std::swap(a, b);
@@ -378,6 +371,14 @@ Eigen::SparseMatrix<double> vertexScalingHessian(const TriMesh& mesh,
     }
   }
   return laplacianFromEdgeWeights(mesh, weight, unknowns);
+}
+
+double fourTimesArea(double a, double b, double c) {
+  if (a < b) std::swap(a, b);
+  if (a < c) std::swap(a, c);
+  if (b < c) std::swap(b, c);
+  const double p = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c));
+  return p > 0.0 ? std::sqrt(p) : 0.0;
 }
 
 }  // namespace mspline::structure

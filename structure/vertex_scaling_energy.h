@@ -30,6 +30,10 @@ double lobachevsky(double x);
 /// is pi and the others 0, the continuous extension of Bobenko, Pinkall and Springborn.
 std::array<double, 3> triangleAngles(double a, double b, double c);
 
+/// Four times the area of a triangle with side lengths a, b, c (Kahan's stable Heron formula); 0
+/// when the lengths violate the triangle inequality. Every metric scheme's cotangents use it.
+double fourTimesArea(double a, double b, double c);
+
 /// True when a, b, c satisfy the strict triangle inequality (the triangle has positive area).
 bool satisfiesTriangleInequality(double a, double b, double c);
 

@@ -131,28 +131,6 @@ NewtonRun newtonSolve(const std::string& name, const TriMesh& mesh,
   return run;
 }
 
-int nearestVertex(const TriMesh& mesh, const OpenMesh::Vec3d& p) {
-  int best = -1;
-  double bestDistance = 1e300;
-  for (const auto v : mesh.vertices()) {
-    const double d = (mesh.point(v) - p).sqrnorm();
-    if (d < bestDistance) {
-      bestDistance = d;
-      best = v.idx();
-    }
-  }
-  return best;
-}
-
-std::vector<Cone> cubeCornerCones(const TriMesh& mesh) {
-  std::vector<Cone> cones;
-  for (int i = 0; i < 8; ++i) {
-    const OpenMesh::Vec3d corner((i & 1) ? 1 : -1, (i & 2) ? 1 : -1, (i & 4) ? 1 : -1);
-    cones.push_back({nearestVertex(mesh, corner / std::sqrt(3.0)), kPi / 2});
-  }
-  return cones;
-}
-
 }  // namespace
 
 TEST_CASE("circle_packing_energy: initial metrics from the input", "[structure]") {
@@ -261,7 +239,7 @@ TEST_CASE("circle_packing_energy: Newton reaches flat tori and cone metrics", "[
   const TriMesh sphere = test::icosphere(2);
   const Eigen::VectorXd torusTarget = structure::flatTarget(torus, {}).curvature;
   const Eigen::VectorXd sphereTarget =
-      structure::flatTarget(sphere, cubeCornerCones(sphere)).curvature;
+      structure::flatTarget(sphere, test::cubeCornerCones(sphere)).curvature;
   for (Scheme scheme : {Scheme::Thurston, Scheme::Inversive}) {
     const std::string name = schemeName(scheme);
     const NewtonRun flat =

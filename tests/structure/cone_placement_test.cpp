@@ -215,9 +215,9 @@ TEST_CASE("cone_placement: surfaces with boundary keep u = 0 there", "[structure
   checkConverged(cap, flatten("capped icosphere(3) quantized", cap, quantized));
 }
 
-// The cone curvatures K + L u with u the direct solve of L u = -K at the free vertices, u = 0 at the
-// cones and on the boundary (a factorization of that constrained system, independent of the Green's
-// function updates placeCones uses).
+// The cone curvatures K + L u with u the direct solve of L u = -K at the free vertices, u = 0 at
+// the cones and on the boundary (a factorization of that constrained system, independent of the
+// Green's function updates placeCones uses).
 std::vector<double> directConeCurvatures(const TriMesh& mesh, const std::vector<Cone>& cones) {
   const Eigen::VectorXd lengths = structure::edgeLengths(mesh);
   const Eigen::VectorXd curvature = structure::vertexCurvatures(mesh, lengths);

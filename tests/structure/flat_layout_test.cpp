@@ -175,19 +175,6 @@ void checkFlatTorus(const std::string& name, const TriMesh& mesh, double toleran
   }
 }
 
-int nearestVertex(const TriMesh& mesh, const OpenMesh::Vec3d& p) {
-  int best = -1;
-  double bestDistance = 1e300;
-  for (const auto v : mesh.vertices()) {
-    const double d = (mesh.point(v) - p).sqrnorm();
-    if (d < bestDistance) {
-      bestDistance = d;
-      best = v.idx();
-    }
-  }
-  return best;
-}
-
 std::size_t countOf(const std::string& text, const std::string& word) {
   std::size_t count = 0;
   for (auto at = text.find(word); at != std::string::npos; at = text.find(word, at + 1)) ++count;
@@ -208,13 +195,9 @@ TEST_CASE("flat_layout: generated torus", "[structure]") {
 
 TEST_CASE("flat_layout: icosphere with eight cones of pi/2", "[structure]") {
   const TriMesh mesh = test::icosphere(3);
-  std::vector<Cone> cones;
+  const std::vector<Cone> cones = test::cubeCornerCones(mesh);
   std::vector<int> coneVertices;
-  for (int i = 0; i < 8; ++i) {
-    const OpenMesh::Vec3d corner((i & 1) ? 1 : -1, (i & 2) ? 1 : -1, (i & 4) ? 1 : -1);
-    cones.push_back({nearestVertex(mesh, corner / std::sqrt(3.0)), kPi / 2});
-    coneVertices.push_back(cones.back().vertex);
-  }
+  for (const Cone& cone : cones) coneVertices.push_back(cone.vertex);
   const FlatLayout layout = layoutAndCheck("icosphere, 8 cones", mesh, flatMetric(mesh, cones));
   CHECK_FALSE(layout.hasPeriods);
   REQUIRE(layout.cones.size() == 8);
@@ -300,11 +283,7 @@ TEST_CASE("flat_layout: SVG pictures", "[structure]") {
   CHECK(countOf(tiled, "<polygon") == 9 * torus.n_faces());
 
   const TriMesh sphere = test::icosphere(2);
-  std::vector<Cone> cones;
-  for (int i = 0; i < 8; ++i) {
-    const OpenMesh::Vec3d corner((i & 1) ? 1 : -1, (i & 2) ? 1 : -1, (i & 4) ? 1 : -1);
-    cones.push_back({nearestVertex(sphere, corner / std::sqrt(3.0)), kPi / 2});
-  }
+  const std::vector<Cone> cones = test::cubeCornerCones(sphere);
   const FlatLayout coned = structure::layoutFlatMetric(sphere, flatMetric(sphere, cones));
   const std::string sphereSvg = structure::layoutSvg(sphere, coned);
   CHECK(countOf(sphereSvg, "<polygon") == sphere.n_faces());

@@ -52,9 +52,10 @@ void checkConnectivity(const IntrinsicTriangulation& tri) {
 
 }  // namespace
 
-TEST_CASE("intrinsic_triangulation: a Ptolemy flip of a cyclic quadrilateral gives the other "
-          "diagonal",
-          "[structure]") {
+TEST_CASE(
+    "intrinsic_triangulation: a Ptolemy flip of a cyclic quadrilateral gives the other "
+    "diagonal",
+    "[structure]") {
   std::array<OpenMesh::Vec3d, 4> p;
   const double angle[4] = {0.3, 1.9, 3.4, 5.0};
   for (int i = 0; i < 4; ++i) p[i] = {2.5 * std::cos(angle[i]), 2.5 * std::sin(angle[i]), 0.0};
@@ -90,9 +91,9 @@ TEST_CASE("intrinsic_triangulation: a Ptolemy flip of a cyclic quadrilateral giv
     CHECK(n[2] > 0.0);
   }
   // The energy does not change at a Delaunay tie.
-  CHECK(std::abs(structure::intrinsicEnergy(tri, Eigen::VectorXd::Zero(4),
-                                            Eigen::VectorXd::Zero(4)) -
-                 energyBefore) <= 1e-13);
+  CHECK(
+      std::abs(structure::intrinsicEnergy(tri, Eigen::VectorXd::Zero(4), Eigen::VectorXd::Zero(4)) -
+               energyBefore) <= 1e-13);
   // Flipping back restores the original length exactly up to rounding (Ptolemy is an involution).
   tri.flip(diagonal);
   CHECK(std::abs(tri.lengths(Eigen::VectorXd::Zero(4))[diagonal] - before[diagonal]) <=
@@ -117,9 +118,10 @@ TEST_CASE("intrinsic_triangulation: flips commute with vertex scaling", "[struct
   CHECK(tri.delaunayCosineSum(diagonal, Eigen::VectorXd::Zero(4)) >= 0.0);
 }
 
-TEST_CASE("intrinsic_triangulation: flipping to Delaunay terminates with opposite angles at most "
-          "pi",
-          "[structure]") {
+TEST_CASE(
+    "intrinsic_triangulation: flipping to Delaunay terminates with opposite angles at most "
+    "pi",
+    "[structure]") {
   for (const std::string name : {"eight.off", "mannequin-devil.off", "torus"}) {
     const TriMesh mesh = name == "torus" ? test::torus(24, 12) : test::realMesh(name);
     const auto topology = structure::analyzeTopology(mesh);
@@ -144,7 +146,8 @@ TEST_CASE("intrinsic_triangulation: flipping to Delaunay terminates with opposit
     const Eigen::VectorXd l = tri.lengths(u);
     int degenerate = 0, atBoundary = 0;
     for (int f = 0; f < tri.faceCount(); ++f) {
-      std::array<double, 3> s = {l[tri.edge(3 * f)], l[tri.edge(3 * f + 1)], l[tri.edge(3 * f + 2)]};
+      std::array<double, 3> s = {l[tri.edge(3 * f)], l[tri.edge(3 * f + 1)],
+                                 l[tri.edge(3 * f + 2)]};
       if (s[0] + s[1] > s[2] && s[1] + s[2] > s[0] && s[2] + s[0] > s[1]) continue;
       bool boundary = false;
       for (int k = 0; k < 3; ++k) boundary = boundary || tri.twin(3 * f + k) < 0;

@@ -28,11 +28,10 @@ structure::RicciFlipsResult solveAndCheck(const std::string& name, const TriMesh
   options.tolerance = 1e-10 / (2 * kPi);
   const auto out = structure::solveVertexScalingWithFlips(mesh, target, options);
   const auto& result = out.ricci;
-  WARN(name << ": " << result.message << "; " << result.iterations << " iterations, "
-            << out.flips << " flips (" << out.trialFlips << " in all trials), "
-            << out.inputEdgesFlipped << " of " << mesh.n_edges()
-            << " input edges flipped, error " << result.maxCurvatureError << ", "
-            << result.seconds << " s");
+  WARN(name << ": " << result.message << "; " << result.iterations << " iterations, " << out.flips
+            << " flips (" << out.trialFlips << " in all trials), " << out.inputEdgesFlipped
+            << " of " << mesh.n_edges() << " input edges flipped, error "
+            << result.maxCurvatureError << ", " << result.seconds << " s");
   INFO(name << ": " << result.message);
   REQUIRE(result.converged);
   CHECK(result.maxCurvatureError <= 1e-10);
@@ -113,9 +112,9 @@ TEST_CASE("ricci_flips: eight.off with automatic cones and with a single cone", 
   const TriMesh mesh = test::realMesh("eight.off");
   SECTION("automatic cones") {
     const auto placement = structure::placeCones(mesh);
-    const auto out = solveAndCheck("eight.off, " + std::to_string(placement.cones.size()) +
-                                       " automatic cones",
-                                   mesh, structure::flatTarget(mesh, placement.cones));
+    const auto out =
+        solveAndCheck("eight.off, " + std::to_string(placement.cones.size()) + " automatic cones",
+                      mesh, structure::flatTarget(mesh, placement.cones));
     CHECK(out.ricci.iterations <= 50);
   }
   SECTION("single cone") {

@@ -54,19 +54,6 @@ structure::RicciResult solveAndCheck(const std::string& name, const TriMesh& mes
   return result;
 }
 
-int nearestVertex(const TriMesh& mesh, const OpenMesh::Vec3d& p) {
-  int best = -1;
-  double bestDistance = 1e300;
-  for (const auto v : mesh.vertices()) {
-    const double d = (mesh.point(v) - p).sqrnorm();
-    if (d < bestDistance) {
-      bestDistance = d;
-      best = v.idx();
-    }
-  }
-  return best;
-}
-
 TriMesh bumpyDisk(int n) {
   TriMesh mesh = test::gridDisk(n);
   for (const auto v : mesh.vertices()) {
@@ -93,11 +80,7 @@ TEST_CASE("ricci_newton: knot1.off, genus 1, no cones", "[structure]") {
 
 TEST_CASE("ricci_newton: icosphere with eight cones of pi/2", "[structure]") {
   const TriMesh mesh = test::icosphere(3);
-  std::vector<Cone> cones;
-  for (int i = 0; i < 8; ++i) {
-    const OpenMesh::Vec3d corner((i & 1) ? 1 : -1, (i & 2) ? 1 : -1, (i & 4) ? 1 : -1);
-    cones.push_back({nearestVertex(mesh, corner / std::sqrt(3.0)), kPi / 2});
-  }
+  const std::vector<Cone> cones = test::cubeCornerCones(mesh);
   const auto target = structure::flatTarget(mesh, cones);
   solveAndCheck("icosphere, 8 cones", mesh, target);
 }
@@ -115,7 +98,7 @@ TEST_CASE("ricci_newton: disk with a bump", "[structure]") {
     std::vector<Cone> corners;
     for (const auto& c : {OpenMesh::Vec3d(0, 0, 0), OpenMesh::Vec3d(1, 0, 0),
                           OpenMesh::Vec3d(1, 1, 0), OpenMesh::Vec3d(0, 1, 0)})
-      corners.push_back({nearestVertex(mesh, c), kPi / 2});
+      corners.push_back({test::nearestVertex(mesh, c), kPi / 2});
     const auto target =
         structure::flatTarget(mesh, corners, BoundaryCondition::PrescribedGeodesicCurvature);
     const auto result = solveAndCheck("bumpy disk, rectangle", mesh, target);

@@ -176,15 +176,14 @@ TEST_CASE("vertex_scaling_energy: Lobachevsky function", "[structure]") {
   }
 }
 
-TEST_CASE("vertex_scaling_energy: Lobachevsky function against the plain series",
-          "[structure]") {
+TEST_CASE("vertex_scaling_energy: Lobachevsky function against the plain series", "[structure]") {
   // Dense in [0, pi] (the triangle angles), including both sides of the split at pi / 3 and the
   // ends, plus a few arguments outside that need the periodic reduction.
   double worst = 0.0;
   std::vector<double> xs;
   for (int i = 0; i <= 600; ++i) xs.push_back(kPi * i / 600.0);
-  for (double x : {1e-300, 1e-12, kPi / 3 - 1e-12, kPi / 3 + 1e-12, kPi - 1e-12, -0.7, 4.0, -9.5,
-                   40.0})
+  for (double x :
+       {1e-300, 1e-12, kPi / 3 - 1e-12, kPi / 3 + 1e-12, kPi - 1e-12, -0.7, 4.0, -9.5, 40.0})
     xs.push_back(x);
   for (double x : xs) {
     const double error = std::abs(structure::lobachevsky(x) - lobachevskyBySeries(x));

@@ -328,3 +328,29 @@ void appendSoup(PolygonSoup& soup, const PolygonSoup& other) {
 }
 
 }  // namespace mspline::test
+
+namespace mspline::test {
+
+int nearestVertex(const TriMesh& mesh, const OpenMesh::Vec3d& p) {
+  int best = -1;
+  double bestDistance = 1e300;
+  for (const auto v : mesh.vertices()) {
+    const double d = (mesh.point(v) - p).sqrnorm();
+    if (d < bestDistance) {
+      bestDistance = d;
+      best = v.idx();
+    }
+  }
+  return best;
+}
+
+std::vector<structure::Cone> cubeCornerCones(const TriMesh& mesh) {
+  std::vector<structure::Cone> cones;
+  for (int i = 0; i < 8; ++i) {
+    const OpenMesh::Vec3d corner((i & 1) ? 1 : -1, (i & 2) ? 1 : -1, (i & 4) ? 1 : -1);
+    cones.push_back({nearestVertex(mesh, corner / std::sqrt(3.0)), kPi / 2});
+  }
+  return cones;
+}
+
+}  // namespace mspline::test

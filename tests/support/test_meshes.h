@@ -1,6 +1,9 @@
 #pragma once
 // Meshes generated in code, shared by all tests. Every generator returns a clean manifold mesh
 // whose topology is stated in its comment; `resolution` scales the number of faces.
+#include <vector>
+
+#include "structure/curvature_target.h"
 #include "structure/polygon_soup.h"
 #include "structure/tri_mesh.h"
 
@@ -38,5 +41,15 @@ PolygonSoup octahedronSoup(double offset = 0.0);
 PolygonSoup gridSoup(int n, bool quads = false);
 /// Appends `other`'s vertices and faces to `soup` (a second component).
 void appendSoup(PolygonSoup& soup, const PolygonSoup& other);
+
+}  // namespace mspline::test
+
+namespace mspline::test {
+
+/// Index of the vertex nearest to p.
+int nearestVertex(const TriMesh& mesh, const OpenMesh::Vec3d& p);
+/// Eight cones of curvature pi/2 at the vertices nearest the corners of the cube inscribed in the
+/// unit sphere (a flat metric on a sphere whose cut pieces fold into a cube; sum 4 pi).
+std::vector<structure::Cone> cubeCornerCones(const TriMesh& mesh);
 
 }  // namespace mspline::test
