@@ -26,6 +26,7 @@
 
 using namespace mspline;
 using structure::CholeskyBackend;
+using structure::choleskyBackendName;
 
 namespace {
 
@@ -47,18 +48,6 @@ std::string loadedBlas() {
   if (auto threads = reinterpret_cast<ThreadsFn>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads")))
     result += "; OpenBLAS threads: " + std::to_string(threads());
   return result;
-}
-
-const char* backendName(CholeskyBackend backend) {
-  switch (backend) {
-    case CholeskyBackend::CholmodSupernodal:
-      return "CHOLMOD supernodal";
-    case CholeskyBackend::CholmodSimplicial:
-      return "CHOLMOD simplicial";
-    case CholeskyBackend::EigenSimplicial:
-      return "Eigen SimplicialLDLT";
-  }
-  return "?";
 }
 
 double peakMiB() {
@@ -110,7 +99,7 @@ void benchSize(const structure::TriMesh& base, std::size_t targetFaces) {
     std::printf(
         "  %-21s analyze %7.3f s  factorize %7.3f s (best of 3)  solve %6.3f s  "
         "nnz(L) %6.2f M  residual %.1e  peak RSS so far %.0f MiB\n",
-        backendName(backend), solver.lastAnalyzeSeconds(), bestFactorize, solveSeconds,
+        choleskyBackendName(backend), solver.lastAnalyzeSeconds(), bestFactorize, solveSeconds,
         solver.factorNonZeros() / 1e6, residual, peakMiB());
     std::fflush(stdout);
   }

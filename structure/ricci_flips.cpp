@@ -108,17 +108,13 @@ RicciFlipsResult solveVertexScalingWithFlips(const TriMesh& mesh, const Curvatur
     const Eigen::VectorXd g = unknowns.gather(gradient);
     Eigen::VectorXd direction;
     try {
-      if (analyzedAtFlips != out.triangulation.flipCount()) solver.analyze(hessian);
+      direction =
+          newtonDirection(solver, hessian, g, analyzedAtFlips != out.triangulation.flipCount());
       analyzedAtFlips = out.triangulation.flipCount();
-      solver.factorize(hessian);
-      direction = -solver.solve(g);
     } catch (const SolverError& error) {
       return finish(RicciStatus::SolverFailed, std::string(error.what()) + where.str());
     }
     const double slope = g.dot(direction);
-    if (!std::isfinite(slope) || slope >= 0.0)
-      return finish(RicciStatus::SolverFailed,
-                    "the Newton direction is not a descent direction" + where.str());
 
     // Armijo backtracking; each trial is evaluated on its own Delaunay triangulation.
     double t = std::min(1.0, options.maxUStep / direction.lpNorm<Eigen::Infinity>());

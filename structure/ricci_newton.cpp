@@ -51,6 +51,17 @@ IndexMap ricciUnknowns(const TriMesh& mesh, const CurvatureTarget& target) {
   return IndexMap(mesh.n_vertices(), excluded);
 }
 
+Eigen::VectorXd newtonDirection(SparseCholesky& solver, const Eigen::SparseMatrix<double>& hessian,
+                                const Eigen::VectorXd& gradient, bool reanalyze) {
+  if (reanalyze) solver.analyze(hessian);
+  solver.factorize(hessian);
+  Eigen::VectorXd direction = -solver.solve(gradient);
+  const double slope = gradient.dot(direction);
+  if (!std::isfinite(slope) || slope >= 0.0)
+    throw SolverError("the Newton direction is not a descent direction");
+  return direction;
+}
+
 RicciResult solveVertexScaling(const TriMesh& mesh, const CurvatureTarget& target,
                                const RicciNewtonOptions& options) {
   return solveRicciFlow(mesh, vertexScalingScheme(mesh), target, options);
@@ -117,17 +128,12 @@ RicciResult solveRicciFlow(const TriMesh& mesh, const RicciScheme& scheme,
     const Eigen::VectorXd g = unknowns.gather(gradient);
     Eigen::VectorXd direction;
     try {
-      if (!analyzed) solver.analyze(hessian);
+      direction = newtonDirection(solver, hessian, g, !analyzed);
       analyzed = true;
-      solver.factorize(hessian);
-      direction = -solver.solve(g);
     } catch (const SolverError& error) {
       return finish(RicciStatus::SolverFailed, std::string(error.what()) + where.str());
     }
     const double slope = g.dot(direction);
-    if (!std::isfinite(slope) || slope >= 0.0)
-      return finish(RicciStatus::SolverFailed,
-                    "the Newton direction is not a descent direction" + where.str());
 
     // Backtracking (Armijo) line search; trial metrics with degenerate triangles are rejected
     // because this triangulation cannot represent them (no flips here).

@@ -5,10 +5,12 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 
 #include "structure/curvature_target.h"
 #include "structure/index_map.h"
 #include "structure/ricci_scheme.h"
+#include "structure/sparse_cholesky.h"
 #include "structure/tri_mesh.h"
 
 namespace mspline::structure {
@@ -89,6 +91,11 @@ RicciResult solveVertexScaling(const TriMesh& mesh, const CurvatureTarget& targe
 /// per vertex; Gauss-Bonnet: InputError), and its unknowns: the vertices that are not fixed, with
 /// vertex 0 pinned for the additive gauge when none is.
 IndexMap ricciUnknowns(const TriMesh& mesh, const CurvatureTarget& target);
+
+/// The Newton direction -H^-1 g, re-running the symbolic analysis when `reanalyze` (the pattern
+/// changed). Throws SolverError when H cannot be factorized or the direction does not descend.
+Eigen::VectorXd newtonDirection(SparseCholesky& solver, const Eigen::SparseMatrix<double>& hessian,
+                                const Eigen::VectorXd& gradient, bool reanalyze);
 
 /// The same Newton method for any scheme (vertex scaling, circle packings); the degeneracy checks
 /// use the scheme's lengths, since a circle packing's initial metric need not be the input's.

@@ -240,4 +240,16 @@ const CholeskyOptions& SparseCholesky::options() const {
   return impl_->options;
 }
 
+const char* choleskyBackendName(CholeskyBackend backend) {
+  switch (backend) {
+    case CholeskyBackend::CholmodSupernodal:
+      return "CHOLMOD supernodal";
+    case CholeskyBackend::CholmodSimplicial:
+      return "CHOLMOD simplicial";
+    case CholeskyBackend::EigenSimplicial:
+      return "Eigen SimplicialLDLT";
+  }
+  return "unknown backend";
+}
+
 }  // namespace mspline::structure

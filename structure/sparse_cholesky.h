@@ -18,6 +18,9 @@ enum class CholeskyBackend {
   EigenSimplicial,
 };
 
+/// "CHOLMOD supernodal", "CHOLMOD simplicial" or "Eigen SimplicialLDLT", for reports.
+const char* choleskyBackendName(CholeskyBackend backend);
+
 struct CholeskyOptions {
   /// Default: CHOLMOD supernodal, the fastest on mesh Laplacians of 10^5 unknowns and more.
   CholeskyBackend backend = CholeskyBackend::CholmodSupernodal;

@@ -11,6 +11,7 @@
 
 using namespace mspline;
 using structure::CholeskyBackend;
+using structure::choleskyBackendName;
 using structure::CholeskyOptions;
 using structure::SparseCholesky;
 using SparseMatrix = Eigen::SparseMatrix<double>;
@@ -20,18 +21,6 @@ namespace {
 const CholeskyBackend kBackends[] = {CholeskyBackend::CholmodSupernodal,
                                      CholeskyBackend::CholmodSimplicial,
                                      CholeskyBackend::EigenSimplicial};
-
-std::string backendName(CholeskyBackend backend) {
-  switch (backend) {
-    case CholeskyBackend::CholmodSupernodal:
-      return "CHOLMOD supernodal";
-    case CholeskyBackend::CholmodSimplicial:
-      return "CHOLMOD simplicial";
-    case CholeskyBackend::EigenSimplicial:
-      return "Eigen simplicial";
-  }
-  return "?";
-}
 
 // Cotangent Laplacian of a randomly jittered n x n grid (irregular, non-uniform weights) plus a
 // random positive diagonal: symmetric positive definite.
@@ -76,7 +65,7 @@ TEST_CASE("sparse_cholesky: solves SPD Laplacian systems and refactorizes on the
   Eigen::VectorXd b = randomVector(a.rows(), 3), b2 = randomVector(a.rows(), 4);
   Eigen::VectorXd reference;
   for (CholeskyBackend backend : kBackends) {
-    INFO(backendName(backend));
+    INFO(choleskyBackendName(backend));
     SparseCholesky solver(CholeskyOptions{backend});
     solver.analyze(a);
     CHECK(solver.size() == a.rows());
@@ -106,7 +95,7 @@ TEST_CASE("sparse_cholesky: reads only the lower triangle", "[structure]") {
   SparseMatrix lower = a.triangularView<Eigen::Lower>();
   Eigen::VectorXd b = randomVector(a.rows(), 6);
   for (CholeskyBackend backend : kBackends) {
-    INFO(backendName(backend));
+    INFO(choleskyBackendName(backend));
     SparseCholesky solver(CholeskyOptions{backend});
     solver.compute(lower);
     CHECK(relativeResidual(a, solver.solve(b), b) < 1e-10);
@@ -123,7 +112,7 @@ TEST_CASE("sparse_cholesky: a Laplacian with a pinned vertex is definite", "[str
   SparseMatrix a = map.restrict(full);
   Eigen::VectorXd b = randomVector(a.rows(), 7);
   for (CholeskyBackend backend : kBackends) {
-    INFO(backendName(backend));
+    INFO(choleskyBackendName(backend));
     SparseCholesky solver(CholeskyOptions{backend});
     solver.compute(a);
     CHECK(relativeResidual(a, solver.solve(b), b) < 1e-10);
@@ -137,7 +126,7 @@ TEST_CASE("sparse_cholesky: a matrix that is not positive definite throws Solver
   SparseMatrix negative = withNegativeColumn(good, bad);
   Eigen::VectorXd b = randomVector(good.rows(), 9);
   for (CholeskyBackend backend : kBackends) {
-    INFO(backendName(backend));
+    INFO(choleskyBackendName(backend));
     SparseCholesky solver(CholeskyOptions{backend});
     solver.analyze(good);
     CHECK_THROWS_WITH(solver.factorize(negative),
@@ -172,7 +161,7 @@ TEST_CASE("sparse_cholesky: a moved solver keeps its factor", "[structure]") {
   SparseMatrix a = randomSpd(10, 11, 1.0);
   Eigen::VectorXd b = randomVector(a.rows(), 12);
   for (CholeskyBackend backend : kBackends) {
-    INFO(backendName(backend));
+    INFO(choleskyBackendName(backend));
     SparseCholesky first(CholeskyOptions{backend});
     first.compute(a);
     SparseCholesky second(std::move(first));
