@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <iostream>
+#include <optional>
 
 #include "cli/command.h"
 #include "cli/mesh_report.h"
@@ -16,6 +17,7 @@
 #include "structure/cone_placement.h"
 #include "structure/errors.h"
 #include "structure/flat_layout.h"
+#include "structure/intrinsic_flattening.h"
 #include "structure/layout_svg.h"
 #include "structure/ricci_flips.h"
 #include "structure/ricci_newton.h"
@@ -133,10 +135,11 @@ RicciScheme makeScheme(const TriMesh& mesh, const std::string& name) {
   return vertexScalingScheme(mesh);
 }
 
-// exp(2u) over the vertices, with u shifted so the flat metric has the input's total area: the
-// factor by which the flat metric scales area around each vertex.
-Json areaDistortion(const TriMesh& mesh, const Eigen::VectorXd& u,
-                    const Eigen::VectorXd& flatLengths) {
+// exp(2u) over the input vertices, with u shifted so the flat metric has the input's total area:
+// the factor by which the flat metric scales area around each vertex. `mesh` is the surface laid
+// out (the input or its overlay) with its flat lengths.
+Json areaDistortion(const TriMesh& mesh, const Eigen::VectorXd& flatLengths,
+                    const Eigen::VectorXd& u) {
   auto area = [&](const Eigen::VectorXd& lengths) {
     double sum = 0.0;
     for (auto f : mesh.faces()) {
@@ -233,45 +236,51 @@ void addFlattenCommand(CLI::App& app, Command& command) {
         cones_json.push_back({{"vertex", cone.vertex},
                               {"curvature", cone.curvature},
                               {"angle", 2.0 * kPi - cone.curvature}});
-      Json report{{"file", a.mesh},
-                  {"scheme", a.scheme},
-                  {"converged", flow.converged},
-                  {"message", flow.message},
-                  {"iterations", flow.iterations},
-                  {"max_curvature_error", flow.maxCurvatureError},
-                  {"cones", cones_json},
-                  // The solver keeps the input triangulation: intrinsic Delaunay flips are not
-                  // implemented yet, so none happen.
-                  {"flips", 0}};
-      if (!flow.converged) {
-        std::string diagnosis = flow.message;
-        if (flow.status == RicciStatus::DegenerateTriangles && a.scheme == "yamabe") {
-          progress("retrying with intrinsic Delaunay flips");
-          RicciFlipsResult flipped = solveVertexScalingWithFlips(mesh, target, options);
-          report["flip_solver"] = {{"converged", flipped.ricci.converged},
-                                   {"iterations", flipped.ricci.iterations},
-                                   {"flips", flipped.flips},
-                                   {"max_curvature_error", flipped.ricci.maxCurvatureError}};
-          if (flipped.ricci.converged)
-            diagnosis +=
-                "; with " + std::to_string(flipped.flips) +
-                " intrinsic Delaunay flips the metric converges (" +
-                std::to_string(flipped.ricci.iterations) +
-                " steps), but laying out an intrinsic triangulation is not implemented yet";
+      Json report{{"file", a.mesh}, {"scheme", a.scheme}, {"cones", cones_json}, {"flips", 0}};
+      // Where the input triangulation degenerates, vertex scaling continues on an intrinsic
+      // triangulation kept Delaunay by Ptolemy flips, and the surface laid out is the common
+      // subdivision of the input and that triangulation.
+      std::optional<IntrinsicOverlay> overlay;
+      if (!flow.converged && flow.status == RicciStatus::DegenerateTriangles &&
+          a.scheme == "yamabe") {
+        progress("the input triangulation degenerates (" + flow.message +
+                 "); retrying with intrinsic Delaunay flips" +
+                 (topology.closed ? "" : " on the doubled surface"));
+        report["plain_solver"] = {{"message", flow.message}, {"iterations", flow.iterations}};
+        IntrinsicFlattening flipped = flattenWithFlips(mesh, target, options);
+        flow = flipped.solve.ricci;
+        flow.u = flipped.u;
+        report["flips"] = flipped.solve.flips;
+        report["doubled"] = flipped.doubled;
+        stages["ricci_flow_flips"] = clock.lap();
+        if (flow.converged) {
+          report["overlay"] = {{"faces", flipped.overlay.mesh.n_faces()},
+                               {"crossings", flipped.overlay.crossingInputEdge.size()},
+                               {"split_edges", flipped.splitEdges},
+                               {"length_mismatch", flipped.overlay.maxLengthMismatch}};
+          overlay = std::move(flipped.overlay);
         }
+      }
+      report["converged"] = flow.converged;
+      report["message"] = flow.message;
+      report["iterations"] = flow.iterations;
+      report["max_curvature_error"] = flow.maxCurvatureError;
+      if (!flow.converged) {
         stages["total"] = clock.lap();
         report["stage_seconds"] = stages;
         command.partialResult = report;
-        throw SolverError(a.mesh + ": the Ricci flow did not converge: " + diagnosis +
+        throw SolverError(a.mesh + ": the Ricci flow did not converge: " + flow.message +
                           " (nothing written)");
       }
+      const TriMesh& surface = overlay ? overlay->mesh : mesh;
+      const Eigen::VectorXd& flatLengths = overlay ? overlay->edgeLengths : flow.edgeLengths;
 
       progress("laying out");
-      FlatLayout layout = layoutFlatMetric(mesh, flow.edgeLengths);
+      FlatLayout layout = layoutFlatMetric(surface, flatLengths);
       stages["layout"] = clock.lap();
-      PolygonSoup soup = toSoup(mesh, a.mesh);
+      PolygonSoup soup = toSoup(surface, a.mesh);
       soup.cornerUVs.resize(soup.faces.size());
-      for (auto f : mesh.faces())
+      for (auto f : surface.faces())
         for (int k = 0; k < 3; ++k) {
           const auto row = layout.cornerUV.row(3 * f.idx() + k);
           soup.cornerUVs[f.idx()].push_back({row[0], row[1]});
@@ -280,7 +289,7 @@ void addFlattenCommand(CLI::App& app, Command& command) {
       if (!a.svg.empty()) {
         LayoutSvgOptions svgOptions;
         svgOptions.coverRadius = a.cover ? 1 : 0;
-        const std::string picture = layoutSvg(mesh, layout, svgOptions);
+        const std::string picture = layoutSvg(surface, layout, svgOptions);
         io::writeFileAtomically(a.svg, [&](std::ostream& out) { out << picture; });
       }
       stages["write"] = clock.lap();
@@ -290,7 +299,7 @@ void addFlattenCommand(CLI::App& app, Command& command) {
       report["seconds"] = total;
       report["stage_seconds"] = stages;
       report["flipped_triangles"] = layout.flippedTriangles;
-      report["area_distortion"] = areaDistortion(mesh, flow.u, flow.edgeLengths);
+      report["area_distortion"] = areaDistortion(surface, flatLengths, flow.u);
       report["angle_distortion"] = {{"mean", layout.meanAngleDistortion},
                                     {"max", layout.maxAngleDistortion}};
       report["layout_edge_length_error"] = layout.maxEdgeLengthError;
@@ -307,8 +316,9 @@ void addFlattenCommand(CLI::App& app, Command& command) {
       } else {
         std::cout << "converged in " << flow.iterations << " Newton steps, max curvature error "
                   << flow.maxCurvatureError << ", " << cones.size() << " cones, "
-                  << layout.flippedTriangles << " flipped triangles, " << total << " s\nwrote "
-                  << a.output << (a.svg.empty() ? "" : " and " + a.svg) << std::endl;
+                  << report["flips"].get<long>() << " intrinsic flips, " << layout.flippedTriangles
+                  << " flipped triangles, " << total << " s\nwrote " << a.output
+                  << (a.svg.empty() ? "" : " and " + a.svg) << std::endl;
       }
       if (layout.flippedTriangles > 0)
         throw SolverError(a.mesh + ": the layout has " + std::to_string(layout.flippedTriangles) +

@@ -43,36 +43,108 @@ Eigen::Vector2d rotate(const Eigen::Vector2d& d, double angle) {
   return {c * d.x() - s * d.y(), s * d.x() + c * d.y()};
 }
 
-// Marks the cut: the homotopy cut graph plus tree paths to the cones, with dangling branches that
-// end at no cone pruned.
+// Marks the cut: the homotopy cut graph (which joins the boundary loops), and each cone joined by
+// a shortest path to what is cut already. Each path stops at the first cut or boundary vertex it
+// reaches, so it closes no loop and the surface stays one disk.
 std::vector<char> cutEdgeFlags(const TriMesh& mesh, const HomotopyBasis& basis,
                                const std::vector<Cone>& cones) {
   std::vector<char> cut(mesh.n_edges(), 0);
-  for (int e : computeCutGraph(mesh, basis).edges) cut[e] = 1;
+  // A sphere's own cut graph is a slit that the cones do not need.
+  const bool sphere = basis.loops.empty() && basis.boundaryLoops.empty();
+  if (!sphere || cones.empty())
+    for (int e : computeCutGraph(mesh, basis).edges) cut[e] = 1;
   if (cones.empty()) return cut;
 
-  std::vector<char> isCone(mesh.n_vertices(), 0);
-  for (const Cone& c : cones) {
-    isCone[c.vertex] = 1;
-    const std::vector<int> path = treePath(basis, c.vertex);
-    for (std::size_t k = 0; k + 1 < path.size(); ++k) {
-      const auto h =
-          mesh.find_halfedge(TriMesh::VertexHandle(path[k]), TriMesh::VertexHandle(path[k + 1]));
-      MSPLINE_ASSERT(h.is_valid(), "tree path vertices are not adjacent");
-      cut[mesh.edge_handle(h).idx()] = 1;
-    }
-  }
-  // A closed sphere's cut graph is a slit that now only needs to survive where it leads to cones.
-  std::vector<int> degree(mesh.n_vertices(), 0);
+  std::vector<char> reached(mesh.n_vertices(), 0);
+  bool anyReached = false;
+  for (auto v : mesh.vertices())
+    if (mesh.is_boundary(v)) reached[v.idx()] = anyReached = true;
   for (auto e : mesh.edges())
     if (cut[e.idx()]) {
-      ++degree[mesh.from_vertex_handle(mesh.halfedge_handle(e, 0)).idx()];
-      ++degree[mesh.to_vertex_handle(mesh.halfedge_handle(e, 0)).idx()];
+      const auto h = mesh.halfedge_handle(e, 0);
+      reached[mesh.from_vertex_handle(h).idx()] = reached[mesh.to_vertex_handle(h).idx()] = 1;
+      anyReached = true;
     }
-  std::vector<int> leaves;
+  std::vector<TriMesh::HalfedgeHandle> parent(mesh.n_vertices());
+  std::vector<int> visitedAt(mesh.n_vertices(), -1);
+  for (std::size_t c = 0; c < cones.size(); ++c) {
+    const TriMesh::VertexHandle cone(cones[c].vertex);
+    if (!anyReached) {
+      reached[cone.idx()] = anyReached = true;
+      continue;
+    }
+    if (reached[cone.idx()]) continue;
+    std::queue<TriMesh::VertexHandle> queue;
+    queue.push(cone);
+    visitedAt[cone.idx()] = int(c);
+    TriMesh::VertexHandle hit;
+    while (!queue.empty() && !hit.is_valid()) {
+      const auto v = queue.front();
+      queue.pop();
+      for (auto h : mesh.voh_range(v)) {
+        const auto w = mesh.to_vertex_handle(h);
+        if (visitedAt[w.idx()] == int(c)) continue;
+        visitedAt[w.idx()] = int(c);
+        parent[w.idx()] = h;
+        if (reached[w.idx()]) {
+          hit = w;
+          break;
+        }
+        queue.push(w);
+      }
+    }
+    MSPLINE_ASSERT(hit.is_valid(), "a cone is not connected to the cut");
+    for (auto v = hit; v != cone;) {
+      const auto h = parent[v.idx()];
+      cut[mesh.edge_handle(h).idx()] = 1;
+      v = mesh.from_vertex_handle(h);
+      reached[v.idx()] = 1;
+    }
+  }
+  return cut;
+}
+
+// Makes sure cutting along `preferred` leaves one disk, changing it as little as possible. Faces
+// are joined by a spanning tree of the dual graph that crosses preferred edges only where it must
+// (where they close loops, e.g. paths between boundaries that pass other boundaries); cutting every
+// edge the tree does not cross leaves a disk, and pruning branches that dangle at an interior
+// vertex that is no cone keeps it one.
+std::vector<char> diskCut(const TriMesh& mesh, const std::vector<char>& preferred,
+                          const std::vector<Cone>& cones) {
+  std::vector<char> crossed(mesh.n_edges(), 0);
+  std::vector<char> reached(mesh.n_faces(), 0);
+  std::vector<int> order = {0};
+  reached[0] = 1;
+  for (const bool acrossPreferred : {false, true}) {
+    std::vector<int> queue = order;
+    for (std::size_t k = 0; k < queue.size(); ++k) {
+      for (auto h : mesh.fh_range(TriMesh::FaceHandle(queue[k]))) {
+        const auto e = mesh.edge_handle(h);
+        const auto opposite = mesh.opposite_halfedge_handle(h);
+        if (mesh.is_boundary(opposite) || (preferred[e.idx()] && !acrossPreferred)) continue;
+        const int g = mesh.face_handle(opposite).idx();
+        if (reached[g]) continue;
+        reached[g] = 1;
+        crossed[e.idx()] = 1;
+        queue.push_back(g);
+      }
+    }
+    order = std::move(queue);
+  }
+  std::vector<char> cut(mesh.n_edges(), 0);
+  std::vector<int> degree(mesh.n_vertices(), 0);
+  for (auto e : mesh.edges()) {
+    if (mesh.is_boundary(e) || crossed[e.idx()]) continue;
+    cut[e.idx()] = 1;
+    ++degree[mesh.from_vertex_handle(mesh.halfedge_handle(e, 0)).idx()];
+    ++degree[mesh.to_vertex_handle(mesh.halfedge_handle(e, 0)).idx()];
+  }
+  std::vector<char> isCone(mesh.n_vertices(), 0);
+  for (const Cone& c : cones) isCone[c.vertex] = 1;
   auto prunable = [&](TriMesh::VertexHandle v) {
     return degree[v.idx()] == 1 && !isCone[v.idx()] && !mesh.is_boundary(v);
   };
+  std::vector<int> leaves;
   for (auto v : mesh.vertices())
     if (prunable(v)) leaves.push_back(v.idx());
   while (!leaves.empty()) {
@@ -160,7 +232,7 @@ FlatLayout layoutFlatMetric(const TriMesh& mesh, const Eigen::VectorXd& edgeLeng
     if (!mesh.is_boundary(v) && std::abs(curvature[v.idx()]) > options.coneTolerance)
       layout.cones.push_back({v.idx(), curvature[v.idx()]});
 
-  std::vector<char> cut = cutEdgeFlags(mesh, basis, layout.cones);
+  std::vector<char> cut = diskCut(mesh, cutEdgeFlags(mesh, basis, layout.cones), layout.cones);
   for (auto e : mesh.edges()) {
     if (mesh.is_boundary(e)) cut[e.idx()] = 0;
     if (cut[e.idx()]) layout.cutEdges.push_back(e.idx());
@@ -200,7 +272,9 @@ FlatLayout layoutFlatMetric(const TriMesh& mesh, const Eigen::VectorXd& edgeLeng
                         std::to_string(euler) + ", not a disk");
 
   // Trilateration: each face's third corner from the two it shares with the face it was reached
-  // from, at the metric angle and length.
+  // from, at the metric angle and length. Edge directions are carried as angles summed from the
+  // metric, not re-measured from placed points: on skinny triangles a direction read off a short
+  // edge would magnify the rounding of its endpoints at every step.
   const Eigen::VectorXd metricAngle = cornerAngles(mesh, edgeLengths);
   auto length = [&](TriMesh::HalfedgeHandle h) { return edgeLengths[mesh.edge_handle(h).idx()]; };
   layout.rootFace = centralFace(mesh, cut);
@@ -209,25 +283,32 @@ FlatLayout layoutFlatMetric(const TriMesh& mesh, const Eigen::VectorXd& edgeLeng
     throw InternalError("layout: the cut surface is not connected");
   layout.chartPositions = Eigen::MatrixXd::Zero(copies, 2);
   std::vector<char> placed(copies, 0);
+  std::vector<double> direction(mesh.n_halfedges(), 0.0);
   auto position = [&](TriMesh::HalfedgeHandle h) -> Eigen::Vector2d {
     return layout.chartPositions.row(copyOf[h.idx()]).transpose();
   };
+  constexpr double kPi = 3.14159265358979323846;
   for (int fi : walk.order) {
+    // h runs P -> Q, next(h) Q -> R, prev(h) R -> P, counter-clockwise.
     TriMesh::HalfedgeHandle h = walk.entry[fi];
-    if (!h.is_valid()) {
+    if (h.is_valid()) {
+      direction[h.idx()] = direction[mesh.opposite_halfedge_handle(h).idx()] + kPi;
+    } else {
       h = mesh.halfedge_handle(TriMesh::FaceHandle(fi));
       layout.chartPositions.row(copyOf[mesh.prev_halfedge_handle(h).idx()]).setZero();
       layout.chartPositions.row(copyOf[h.idx()]) = Eigen::RowVector2d(length(h), 0.0);
       placed[copyOf[mesh.prev_halfedge_handle(h).idx()]] = placed[copyOf[h.idx()]] = 1;
     }
     const auto next = mesh.next_halfedge_handle(h);
+    const auto prev = mesh.prev_halfedge_handle(h);
+    const double towardR = direction[h.idx()] + metricAngle[next.idx()];         // angle at P
+    direction[next.idx()] = direction[h.idx()] + kPi - metricAngle[prev.idx()];  // angle at Q
+    direction[prev.idx()] = towardR + kPi;
     const int third = copyOf[next.idx()];
     if (placed[third]) continue;
-    const Eigen::Vector2d from = position(mesh.prev_halfedge_handle(h));
-    const Eigen::Vector2d direction = (position(h) - from).normalized();
-    const Eigen::Vector2d p =
-        from + length(mesh.prev_halfedge_handle(h)) * rotate(direction, metricAngle[next.idx()]);
-    layout.chartPositions.row(third) = p.transpose();
+    layout.chartPositions.row(third) =
+        (position(prev) + length(prev) * Eigen::Vector2d(std::cos(towardR), std::sin(towardR)))
+            .transpose();
     placed[third] = 1;
   }
 

@@ -150,11 +150,13 @@ void IntrinsicTriangulation::flip(int e) {
 
   struct Record {
     int tip, twin, edge;
+    bool representative;  // the slot is halfedge(edge): it stays so, keeping edgeVertices' order
   };
   const int from[4] = {a2, b1, b2, a1};
   const int to[4] = {a1, a2, b1, b2};
   Record saved[4];
-  for (int n = 0; n < 4; ++n) saved[n] = {tip(from[n]), twin(from[n]), edge(from[n])};
+  for (int n = 0; n < 4; ++n)
+    saved[n] = {tip(from[n]), twin(from[n]), edge(from[n]), halfedge(edge(from[n])) == from[n]};
   // A twin among the moved slots moves with them (loops and multiple edges of a Delta-complex).
   const auto moved = [&](int s) {
     for (int n = 0; n < 4; ++n)
@@ -167,12 +169,12 @@ void IntrinsicTriangulation::flip(int e) {
     edge_[d] = saved[n].edge;
     twin_[d] = saved[n].twin < 0 ? -1 : moved(saved[n].twin);
     if (twin_[d] >= 0) twin_[std::size_t(twin_[d])] = to[n];
-    edgeHalfedge_[std::size_t(saved[n].edge)] = to[n];
+    if (saved[n].representative) edgeHalfedge_[std::size_t(saved[n].edge)] = to[n];
   }
   tip_[std::size_t(a0)] = k;
   tip_[std::size_t(b0)] = l;
   inputEdge_[std::size_t(e)] = 0;
-  ++flips_;
+  flippedEdges_.push_back(e);
 }
 
 long IntrinsicTriangulation::flipToDelaunay(const Eigen::VectorXd& u, double tolerance) {

@@ -47,7 +47,7 @@ class IntrinsicTriangulation {
   /// The opposite halfedge in the neighbouring face, -1 on the boundary.
   int twin(int h) const { return twin_[std::size_t(h)]; }
   int edge(int h) const { return edge_[std::size_t(h)]; }
-  /// One halfedge of edge e.
+  /// One halfedge of edge e; flips of other edges keep its direction (edgeVertices' order).
   int halfedge(int e) const { return edgeHalfedge_[std::size_t(e)]; }
   bool isBoundaryEdge(int e) const { return twin(halfedge(e)) < 0; }
   bool isBoundaryVertex(int v) const { return boundaryVertex_[std::size_t(v)] != 0; }
@@ -65,7 +65,10 @@ class IntrinsicTriangulation {
   /// False once edge e has been flipped (it then no longer is the input edge of that index).
   bool isInputEdge(int e) const { return inputEdge_[std::size_t(e)] != 0; }
   /// Number of flips made so far.
-  long flipCount() const { return flips_; }
+  long flipCount() const { return long(flippedEdges_.size()); }
+  /// The edges flipped so far, in order: replaying these flips on the input reproduces this
+  /// connectivity (intrinsic_overlay.h does, to map the input onto it).
+  const std::vector<int>& flippedEdges() const { return flippedEdges_; }
   /// Mean input log-length: a fixed unit that keeps the energy's terms small (see
   /// intrinsicEnergy); flips do not change it.
   double logUnit() const { return logUnit_; }
@@ -92,7 +95,7 @@ class IntrinsicTriangulation {
   std::vector<char> inputEdge_;
   Eigen::VectorXd logLength0_;
   double logUnit_ = 0.0;
-  long flips_ = 0;
+  std::vector<int> flippedEdges_;
 };
 
 /// For every halfedge, the angle of its face opposite it at u (BPS extension: pi opposite the

@@ -46,10 +46,17 @@ RicciFlipsResult solveVertexScalingWithFlips(const TriMesh& mesh, const Curvatur
   const double tolerance = options.tolerance * 2.0 * kPi;
   const auto finish = [&](RicciStatus status, const std::string& message) {
     result.status = status;
-    result.converged = status == RicciStatus::Converged;
     result.message = message;
     result.edgeLengths = out.triangulation.lengths(result.u);
     result.degenerateFaces = degenerateIntrinsicFaces(out.triangulation, result.u);
+    // Boundary edges cannot flip: a triangle on one may stay degenerate, and the critical point
+    // of the extended energy is then no metric (flatten doubles such surfaces instead).
+    if (status == RicciStatus::Converged && !result.degenerateFaces.empty()) {
+      result.status = RicciStatus::DegenerateTriangles;
+      result.message += ", but " + std::to_string(result.degenerateFaces.size()) +
+                        " triangles violate the triangle inequality";
+    }
+    result.converged = result.status == RicciStatus::Converged;
     out.faces = out.triangulation.faces();
     out.flips = out.triangulation.flipCount();
     out.inputEdgesFlipped = 0;

@@ -20,7 +20,9 @@ struct RicciFlipsResult {
   /// Status, message, iterations, curvature error, log, seconds and u as from solveVertexScaling.
   /// Here edgeLengths are indexed by the edges of `triangulation` (NOT the input's edges) and
   /// degenerateFaces lists faces of `triangulation` violating the triangle inequality at u (empty
-  /// on success). Status DegenerateTriangles only means an input edge of length 0.
+  /// on success). Status DegenerateTriangles means an input edge of length 0, or a solution
+  /// with triangles on the boundary that violate the triangle inequality (boundary edges cannot
+  /// flip; solve on the doubled surface then, see intrinsic_flattening.h).
   RicciResult ricci;
   /// The final triangulation, Delaunay at ricci.u (lengths: triangulation.lengths(ricci.u)).
   IntrinsicTriangulation triangulation;

@@ -101,6 +101,7 @@ RicciResult solveRicciFlow(const TriMesh& mesh, const RicciScheme& scheme,
 
   SparseCholesky solver;
   bool analyzed = false;
+  int degenerateSteps = 0;  // consecutive steps cut short by degenerating triangles
   double energy = scheme.energy(result.u, target.curvature);
   Eigen::VectorXd gradient = scheme.gradient(result.u, target.curvature);
   for (int iteration = 0;; ++iteration) {
@@ -112,12 +113,13 @@ RicciResult solveRicciFlow(const TriMesh& mesh, const RicciScheme& scheme,
           << result.maxCurvatureError << ")";
     if (result.maxCurvatureError <= tolerance || unknowns.size() == 0)
       return finish(RicciStatus::Converged, "converged" + where.str());
-    if (iteration == options.maxIterations) {
+    if (iteration == options.maxIterations || degenerateSteps >= options.maxDegenerateSteps) {
       if (!result.degenerateFaces.empty()) {
         // The iterates were still pressing against the triangle inequality: the solution lies
         // outside what this triangulation can represent.
         return finish(RicciStatus::DegenerateTriangles,
-                      "no convergence" + where.str() + "; the last line search was stopped by " +
+                      "no convergence" + where.str() + "; " + std::to_string(degenerateSteps) +
+                          " line searches in a row were cut short, the last by " +
                           describeFaces(result.degenerateFaces) +
                           " degenerating; intrinsic Delaunay flips are needed");
       }
@@ -182,8 +184,9 @@ RicciResult solveRicciFlow(const TriMesh& mesh, const RicciScheme& scheme,
     }
     result.log.back().step = t;
     result.log.back().backtracks = backtracks;
-    // Remembered only for the diagnosis when the iteration limit is reached.
+    // Remembered only for the diagnosis when the solve stops.
     result.degenerateFaces = lastDegenerate;
+    degenerateSteps = degenerateTrials > 0 ? degenerateSteps + 1 : 0;
   }
 }
 

@@ -26,6 +26,11 @@ struct RicciNewtonOptions {
   int maxBacktracks = 60;
   /// The first trial step changes no u_i by more than this (a length factor of e^(maxUStep/2)).
   double maxUStep = 8.0;
+  /// Fixed triangulations only: give up with DegenerateTriangles after this many consecutive
+  /// steps whose line search was cut short by triangles degenerating. The iterates then press
+  /// against the triangle inequality, so the solution most likely lies beyond what the
+  /// triangulation can represent; solveVertexScalingWithFlips goes on from there.
+  int maxDegenerateSteps = 8;
 };
 
 enum class RicciStatus {
@@ -35,9 +40,10 @@ enum class RicciStatus {
   MaxIterations,
   /// No step along the Newton direction decreased the energy (numerical stagnation).
   LineSearchFailed,
-  /// Every step along the Newton direction made some triangle violate the triangle inequality, or
-  /// the input already had such triangles: this triangulation has no valid solution nearby
-  /// (intrinsic Delaunay flips would be needed).
+  /// Every step along the Newton direction made some triangle violate the triangle inequality
+  /// (or maxDegenerateSteps steps in a row were cut short so), or the input already had such
+  /// triangles: this triangulation has no valid solution nearby (intrinsic Delaunay flips would be
+  /// needed).
   DegenerateTriangles,
   /// The Newton system could not be factorized.
   SolverFailed,

@@ -126,6 +126,14 @@ TriMesh gridDisk(int n) {
   return mesh;
 }
 
+TriMesh polygonFan(const std::vector<OpenMesh::Vec3d>& corners) {
+  requireAtLeast(int(corners.size()), 3, "polygonFan: corners");
+  TriMesh mesh;
+  for (const auto& p : corners) mesh.add_vertex(p);
+  for (int i = 1; i + 1 < int(corners.size()); ++i) mesh.add_face(VH(0), VH(i), VH(i + 1));
+  return mesh;
+}
+
 // The annulus 0.5 <= r <= 1 with its rings lifted linearly to z = (r - 0.5) * 2: a truncated cone
 // (open at both ends) whose normals point away from the axis. 2 * around * along faces.
 TriMesh cylinder(int around, int along) {

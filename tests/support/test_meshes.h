@@ -26,6 +26,9 @@ TriMesh doubleTorus(int resolution);
 TriMesh genusSurface(int genus, int resolution);
 /// Disk with two holes: genus 0, 3 boundaries.
 TriMesh pairOfPants(int resolution);
+/// The convex polygon with these corners (counter-clockwise), as a fan of triangles from corner
+/// 0: a disk.
+TriMesh polygonFan(const std::vector<OpenMesh::Vec3d>& corners);
 
 }  // namespace mspline::test
 
