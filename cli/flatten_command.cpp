@@ -304,6 +304,16 @@ void addFlattenCommand(CLI::App& app, Command& command) {
                                     {"max", layout.maxAngleDistortion}};
       report["layout_edge_length_error"] = layout.maxEdgeLengthError;
       report["max_seam_residual"] = layout.maxSeamResidual;
+      // With quantized cones every seam is a quarter-turn rotation plus a translation.
+      double quarterTurnError = 0.0;
+      int rotatedSeams = 0;
+      for (const auto& seam : layout.seams) {
+        const double quarters = seam.angle / (kPi / 2.0);
+        quarterTurnError = std::max(quarterTurnError, std::abs(quarters - std::round(quarters)));
+        rotatedSeams += std::round(quarters) != 0.0;
+      }
+      report["seam_rotations"] = {{"rotated", rotatedSeams},
+                                  {"max_quarter_turn_error", quarterTurnError * kPi / 2.0}};
       report["cut_edges"] = layout.cutEdges.size();
       if (layout.hasPeriods) {
         report["periods"] = {{layout.periods[0][0], layout.periods[0][1]},

@@ -65,6 +65,9 @@ TEST_CASE("flatten: bunny with quantized automatic cones", "[cli][slow]") {
     sum += cone["curvature"].get<double>();
   }
   CHECK(sum == Approx(4 * kPi).epsilon(1e-12));  // Gauss-Bonnet for a sphere
+  // Every seam transition is a rotation by a multiple of 90 degrees (radians off, below).
+  CHECK(report["seam_rotations"]["rotated"].get<int>() > 0);
+  CHECK(report["seam_rotations"]["max_quarter_turn_error"].get<double>() <= 1e-9);
 }
 
 TEST_CASE("flatten: where the input triangulation degenerates, the overlay is laid out", "[cli]") {
