@@ -6,9 +6,11 @@
 
 #include <Eigen/Dense>
 
+#include "structure/cone_placement.h"
 #include "structure/curvature_target.h"
 #include "structure/errors.h"
 #include "structure/flat_layout.h"
+#include "structure/intrinsic_flattening.h"
 #include "structure/layout_svg.h"
 #include "structure/ricci_newton.h"
 #include "structure/topology.h"
@@ -255,6 +257,38 @@ TEST_CASE("flat_layout: bounded disks lay out in one chart", "[structure]") {
     // The bump has to shrink to lie flat inside a fixed boundary.
     CHECK(layout.minAreaRatio < 0.9);
     CHECK(layout.meanAngleDistortion > 1e-3);
+  }
+}
+
+TEST_CASE("flat_layout: generated surfaces with automatic cones", "[structure]") {
+  // Newton on the input triangulation, with flips (and doubling) where it degenerates, as flatten
+  // does; the layout must have no flipped triangle.
+  const std::pair<std::string, TriMesh> meshes[] = {{"torus(40, 16)", test::torus(40, 16)},
+                                                    {"icosphere(3)", test::icosphere(3)},
+                                                    {"doubleTorus(4)", test::doubleTorus(4)},
+                                                    {"pairOfPants(6)", test::pairOfPants(6)}};
+  for (const auto& [name, mesh] : meshes) {
+    const auto cones = structure::placeCones(mesh).cones;
+    const auto target = structure::flatTarget(mesh, cones);
+    structure::RicciNewtonOptions options;
+    options.tolerance = 1e-10 / (2 * kPi);
+    const auto plain = structure::solveVertexScaling(mesh, target, options);
+    FlatLayout layout;
+    double error = plain.maxCurvatureError;
+    if (plain.converged) {
+      layout = structure::layoutFlatMetric(mesh, plain.edgeLengths);
+    } else {
+      const auto flipped = structure::flattenWithFlips(mesh, target, options);
+      INFO(name << ": " << flipped.solve.ricci.message);
+      REQUIRE(flipped.solve.ricci.converged);
+      error = flipped.solve.ricci.maxCurvatureError;
+      layout = structure::layoutFlatMetric(flipped.overlay.mesh, flipped.overlay.edgeLengths);
+    }
+    WARN(name << ": " << cones.size() << " cones, " << (plain.converged ? "no flips" : "flips")
+              << ", error " << error << ", " << layout.flippedTriangles << " flipped");
+    CHECK(error <= 1e-10);
+    CHECK(layout.flippedTriangles == 0);
+    CHECK(layout.maxEdgeLengthError <= 1e-8);
   }
 }
 
