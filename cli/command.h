@@ -32,6 +32,9 @@ void addInfoCommand(CLI::App& app, Command& command);
 void addRepairCommand(CLI::App& app, Command& command);
 void addCutCommand(CLI::App& app, Command& command);
 void addFlattenCommand(CLI::App& app, Command& command);
+void addVoronoiCommand(CLI::App& app, Command& command);
+void addAtlasCommand(CLI::App& app, Command& command);
+void addPictureCommand(CLI::App& app, Command& command);
 
 /// Prints one JSON object on stdout.
 void printJson(const Json& object);

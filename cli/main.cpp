@@ -57,6 +57,9 @@ int main(int argc, char** argv) {
   addRepairCommand(app, command);
   addCutCommand(app, command);
   addFlattenCommand(app, command);
+  addVoronoiCommand(app, command);
+  addAtlasCommand(app, command);
+  addPictureCommand(app, command);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

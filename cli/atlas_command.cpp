@@ -1,0 +1,118 @@
+// mspline atlas: the affine atlas of the flat metric (charts, transitions, checks), written as an
+// atlas file.
+#include <iostream>
+
+#include "cli/command.h"
+#include "cli/flatten_pipeline.h"
+#include "io/atlas_file.h"
+#include "io/load_mesh.h"
+#include "structure/affine_atlas.h"
+#include "structure/errors.h"
+
+namespace mspline::cli {
+
+namespace {
+
+using namespace structure;
+
+struct AtlasArguments {
+  std::string mesh;
+  std::string output;
+  FlattenSettings settings;
+  bool check = false;
+};
+
+Json atlasFigures(const AffineAtlas& atlas) {
+  return {{"charts", atlas.charts.size()},
+          {"transitions", atlas.transitions.size()},
+          {"max_transition_residual", atlas.maxTransitionResidual},
+          {"max_cocycle_residual", atlas.maxCocycleResidual},
+          {"transition_kind", transitionKindName(atlas.kind)},
+          {"max_kind_angle_error", atlas.maxKindAngleError},
+          {"uncovered_faces", atlas.uncoveredFaces}};
+}
+
+}  // namespace
+
+void addAtlasCommand(CLI::App& app, Command& command) {
+  auto arguments = std::make_shared<AtlasArguments>();
+  auto* sub = app.add_subcommand(
+      "atlas",
+      "The affine atlas of the flat metric: one chart per vertex star (cones excepted), rigid "
+      "transition maps, checked (transition residuals, cocycle condition), written as an atlas "
+      "file (JSON).");
+  sub->add_option("MESH", arguments->mesh, "Mesh file (must pass validation)")->required();
+  sub->add_option("-o,--output", arguments->output, "Atlas file to write (.json)")->required();
+  addFlattenOptions(*sub, arguments->settings);
+  sub->add_flag("--check", arguments->check,
+                "Read the written file back and check it gives the same atlas");
+  sub->add_flag("--json", command.json, "Print one JSON object on stdout");
+  sub->callback([&command, arguments] {
+    command.name = "atlas";
+    command.run = [&command, arguments] {
+      const AtlasArguments& a = *arguments;
+      auto progress = [&](const std::string& line) {
+        if (!a.settings.quiet) std::cerr << "atlas: " << line << std::endl;
+      };
+      Stopwatch clock;
+      Json stages;
+      io::LoadedMesh loaded = io::loadMesh(a.mesh);
+      stages["load"] = clock.lap();
+      Json flat;
+      const Flattening flattening =
+          flattenMesh(*loaded.mesh, a.mesh, a.settings, command, flat, stages, progress);
+      clock.lap();
+      progress("building the atlas");
+      const AffineAtlas atlas =
+          buildAffineAtlas(*flattening.surface, flattening.flatLengths, flattening.layout);
+      stages["atlas"] = clock.lap();
+      io::writeAtlas(a.output, *flattening.surface, atlas);
+      stages["write"] = clock.lap();
+
+      Json report{{"file", a.mesh}, {"output", a.output}};
+      report.update(atlasFigures(atlas));
+      Json cones = Json::array();
+      for (const auto& cone : atlas.cones)
+        cones.push_back({{"vertex", cone.vertex}, {"curvature", cone.curvature}});
+      report["cones"] = cones;
+      report["flatten"] = {{"converged", flat["converged"]},
+                           {"iterations", flat["iterations"]},
+                           {"max_curvature_error", flat["max_curvature_error"]},
+                           {"flips", flat["flips"]},
+                           {"flipped_triangles", flat["flipped_triangles"]}};
+      if (a.check) {
+        const io::LoadedAtlas back = io::readAtlas(a.output);
+        bool identical = back.atlas.charts.size() == atlas.charts.size() &&
+                         back.atlas.transitions.size() == atlas.transitions.size() &&
+                         back.mesh.n_faces() == flattening.surface->n_faces();
+        for (std::size_t c = 0; identical && c < atlas.charts.size(); ++c)
+          identical = back.atlas.charts[c].vertices == atlas.charts[c].vertices &&
+                      back.atlas.charts[c].positions == atlas.charts[c].positions;
+        for (std::size_t t = 0; identical && t < atlas.transitions.size(); ++t)
+          identical = back.atlas.transitions[t].motion.angle == atlas.transitions[t].motion.angle &&
+                      back.atlas.transitions[t].motion.translation ==
+                          atlas.transitions[t].motion.translation;
+        report["check"] = atlasFigures(back.atlas);
+        report["check"]["identical"] = identical;
+        stages["check"] = clock.lap();
+        if (!identical)
+          throw InternalError(a.output + ": the atlas read back differs from the one written");
+      }
+      double total = 0.0;
+      for (const auto& [name, seconds] : stages.items()) total += seconds.get<double>();
+      report["seconds"] = total;
+      report["stage_seconds"] = stages;
+      if (command.json) {
+        printJson(report);
+      } else {
+        std::cout << atlas.charts.size() << " charts, " << atlas.transitions.size()
+                  << " transitions (" << transitionKindName(atlas.kind) << "), transition residual "
+                  << atlas.maxTransitionResidual << ", cocycle residual "
+                  << atlas.maxCocycleResidual << "\nwrote " << a.output << std::endl;
+      }
+      return int(kExitSuccess);
+    };
+  });
+}
+
+}  // namespace mspline::cli

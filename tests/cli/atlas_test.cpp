@@ -1,0 +1,51 @@
+// `mspline atlas` on real meshes: transition kinds, residuals, the written file read back.
+#include <catch2/catch.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include "support/test_data.h"
+
+using mspline::test::cliPath;
+using mspline::test::realMeshPath;
+using mspline::test::runCommand;
+
+namespace {
+
+nlohmann::json atlas(const std::string& arguments, int expectedExit = 0) {
+  auto result = runCommand(cliPath() + " atlas --json -q " + arguments);
+  INFO("atlas " << arguments << "\nstderr: " << result.err);
+  REQUIRE(result.exitCode == expectedExit);
+  return nlohmann::json::parse(result.out);
+}
+
+}  // namespace
+
+TEST_CASE("atlas: knot1 without cones is a translation structure", "[cli]") {
+  const std::string dir = mspline::test::scratchDirectory("cli_atlas_knot");
+  auto report = atlas(realMeshPath("knot1.off") + " --cones none --check -o " + dir + "/k.json");
+  CHECK(report["transition_kind"] == "translation");
+  CHECK(report["max_transition_residual"].get<double>() <= 1e-10);
+  CHECK(report["max_cocycle_residual"].get<double>() <= 1e-10);
+  CHECK(report["uncovered_faces"] == 0);
+  CHECK(report["charts"] == 3200);
+  CHECK(report["check"]["identical"] == true);
+  CHECK(report["check"]["max_cocycle_residual"] == report["max_cocycle_residual"]);
+}
+
+TEST_CASE("atlas: bunny00 with quantized cones turns by quarter turns", "[cli][slow]") {
+  const std::string dir = mspline::test::scratchDirectory("cli_atlas_bunny");
+  auto report = atlas(realMeshPath("bunny00.off") + " --quantize -o " + dir + "/b.json");
+  CHECK(report["transition_kind"] == "rotation90");
+  CHECK(report["max_kind_angle_error"].get<double>() <= 1e-9);
+  CHECK(report["max_transition_residual"].get<double>() <= 1e-10);
+  CHECK(report["max_cocycle_residual"].get<double>() <= 1e-10);
+  CHECK(report["uncovered_faces"] == 0);
+  CHECK(report["cones"].size() == 14);
+}
+
+TEST_CASE("atlas: bad input", "[cli]") {
+  const std::string dir = mspline::test::scratchDirectory("cli_atlas_bad");
+  auto missing = runCommand(cliPath() + " atlas " + dir + "/none.off -o " + dir + "/a.json");
+  CHECK(missing.exitCode == 2);
+  CHECK(missing.err.find("none.off") != std::string::npos);
+}

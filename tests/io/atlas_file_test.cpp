@@ -1,0 +1,91 @@
+#include <catch2/catch.hpp>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "io/atlas_file.h"
+#include "structure/affine_atlas.h"
+#include "structure/errors.h"
+#include "structure/flat_layout.h"
+#include "structure/ricci_newton.h"
+#include "support/test_data.h"
+#include "support/test_meshes.h"
+
+using namespace mspline;
+
+namespace {
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+}  // namespace
+
+TEST_CASE("atlas_file: round trip of a flat torus atlas", "[io]") {
+  const auto mesh = test::torus(24, 10);
+  const auto flow = structure::solveVertexScaling(mesh, structure::flatTarget(mesh, {}));
+  REQUIRE(flow.converged);
+  const auto layout = structure::layoutFlatMetric(mesh, flow.edgeLengths);
+  const auto atlas = structure::buildAffineAtlas(mesh, flow.edgeLengths, layout);
+  const std::string dir = test::scratchDirectory("io_atlas_file");
+  io::writeAtlas(dir + "/torus.json", mesh, atlas);
+  const auto back = io::readAtlas(dir + "/torus.json");
+  CHECK(back.mesh.n_faces() == mesh.n_faces());
+  REQUIRE(back.atlas.charts.size() == atlas.charts.size());
+  REQUIRE(back.atlas.transitions.size() == atlas.transitions.size());
+  for (std::size_t c = 0; c < atlas.charts.size(); ++c) {
+    CHECK(back.atlas.charts[c].vertices == atlas.charts[c].vertices);
+    CHECK(back.atlas.charts[c].faces == atlas.charts[c].faces);
+    CHECK(back.atlas.charts[c].positions == atlas.charts[c].positions);  // bit for bit
+  }
+  for (std::size_t t = 0; t < atlas.transitions.size(); ++t) {
+    CHECK(back.atlas.transitions[t].motion.angle == atlas.transitions[t].motion.angle);
+    CHECK(back.atlas.transitions[t].motion.translation == atlas.transitions[t].motion.translation);
+  }
+  CHECK(back.atlas.kind == structure::TransitionKind::Translation);
+  CHECK(back.atlas.maxTransitionResidual == atlas.maxTransitionResidual);
+  CHECK(back.atlas.maxCocycleResidual == atlas.maxCocycleResidual);
+}
+
+TEST_CASE("atlas_file: broken files are input errors naming the file", "[io]") {
+  const auto mesh = test::torus(12, 6);
+  const auto flow = structure::solveVertexScaling(mesh, structure::flatTarget(mesh, {}));
+  const auto layout = structure::layoutFlatMetric(mesh, flow.edgeLengths);
+  const auto atlas = structure::buildAffineAtlas(mesh, flow.edgeLengths, layout);
+  const std::string dir = test::scratchDirectory("io_atlas_file_bad");
+  const std::string good = dir + "/good.json";
+  io::writeAtlas(good, mesh, atlas);
+  const std::string text = slurp(good);
+
+  const auto expectInputError = [&](const std::string& name, const std::string& content,
+                                    const std::string& words) {
+    const std::string path = dir + "/" + name;
+    std::ofstream(path) << content;
+    INFO(name);
+    try {
+      io::readAtlas(path);
+      FAIL("no error");
+    } catch (const structure::InputError& error) {
+      const std::string message = error.what();
+      CHECK(message.find(path) != std::string::npos);
+      INFO(message);
+      CHECK(message.find(words) != std::string::npos);
+    }
+  };
+  expectInputError("truncated.json", text.substr(0, text.size() / 2), "not a JSON atlas");
+  std::string wrongFormat = text;
+  wrongFormat.replace(wrongFormat.find("mspline-atlas"), 13, "something-else");
+  expectInputError("format.json", wrongFormat, "format");
+  std::string badVertex = text;
+  badVertex.replace(badVertex.find("\"vertex\":0"), 10, "\"vertex\":99999");
+  expectInputError("vertex.json", badVertex, "vertex 99999");
+  const std::size_t from = text.find("\"transitions\":[") + 15, to = text.find("],\"version\"");
+  REQUIRE(to != std::string::npos);
+  const std::string noTransitions = text.substr(0, from) + text.substr(to);
+  expectInputError("transitions.json", noTransitions, "no transition");
+  CHECK_THROWS_AS(io::readAtlas(dir + "/missing.json"), structure::IoError);
+}
