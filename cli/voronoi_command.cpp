@@ -77,20 +77,6 @@ std::vector<SurfacePoint> readSiteFile(const std::string& path, const TriMesh& m
   return sites;
 }
 
-// Uniform in a random face: the barycentric square-root trick.
-std::vector<SurfacePoint> randomSites(const TriMesh& mesh, int count, unsigned seed) {
-  std::mt19937 random(seed);
-  std::uniform_int_distribution<int> face(0, static_cast<int>(mesh.n_faces()) - 1);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<SurfacePoint> sites(count);
-  for (SurfacePoint& site : sites) {
-    site.face = face(random);
-    const double s = std::sqrt(unit(random)), t = unit(random);
-    site.barycentric = {1.0 - s, s * (1.0 - t), s * t};
-  }
-  return sites;
-}
-
 // A point of an input face as a point of the overlay face (a piece of it) that holds it.
 std::vector<SurfacePoint> sitesOnOverlay(const TriMesh& input, const IntrinsicOverlay& overlay,
                                          const std::vector<SurfacePoint>& sites) {
@@ -182,7 +168,7 @@ void addVoronoiCommand(CLI::App& app, Command& command) {
           flattenMesh(mesh, a.mesh, settings, command, flattenReport, stages, progress);
       const TriMesh& surface = *flat.surface;
       if (random)
-        sites = randomSites(surface, count, a.seed);
+        sites = randomSurfacePoints(surface, count, a.seed);
       else if (flat.overlay)
         sites = sitesOnOverlay(mesh, *flat.overlay, sites);
 

@@ -11,20 +11,26 @@
 
 namespace mspline::structure {
 
-namespace {
+std::vector<Eigen::Vector2d> coverShifts(const FlatLayout& layout, int radius) {
+  std::vector<Eigen::Vector2d> shifts;
+  for (int i = -radius; i <= radius; ++i)
+    for (int j = -radius; j <= radius; ++j)
+      shifts.push_back(i * layout.periods[0] + j * layout.periods[1]);
+  return shifts;
+}
 
-// Maps layout coordinates to pixels (y up in the layout, down in SVG).
-struct Frame {
-  Eigen::Vector2d low;
-  double top = 0.0;
-  double scale = 1.0;
-  double margin = 10.0;
-  Eigen::Vector2d operator()(const Eigen::Vector2d& p) const {
-    return {margin + (p.x() - low.x()) * scale, margin + (top - p.y()) * scale};
-  }
-};
-
-}  // namespace
+std::array<Eigen::Vector2d, 2> shiftedBounds(const FlatLayout& layout,
+                                             const std::vector<Eigen::Vector2d>& shifts) {
+  Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector2d high = -low;
+  for (const Eigen::Vector2d& s : shifts)
+    for (Eigen::Index k = 0; k < layout.cornerUV.rows(); ++k) {
+      const Eigen::Vector2d p = layout.cornerUV.row(k).transpose() + s;
+      low = low.cwiseMin(p);
+      high = high.cwiseMax(p);
+    }
+  return {low, high};
+}
 
 std::string layoutSvg(const TriMesh& mesh, const FlatLayout& layout,
                       const LayoutSvgOptions& options) {
@@ -34,20 +40,9 @@ std::string layoutSvg(const TriMesh& mesh, const FlatLayout& layout,
   MSPLINE_ASSERT(layout.cornerUV.rows() == static_cast<Eigen::Index>(3 * mesh.n_faces()),
                  "layout does not belong to this mesh");
 
-  std::vector<Eigen::Vector2d> shifts;
-  const int r = options.coverRadius;
-  for (int i = -r; i <= r; ++i)
-    for (int j = -r; j <= r; ++j) shifts.push_back(i * layout.periods[0] + j * layout.periods[1]);
-
-  Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
-  Eigen::Vector2d high = -low;
-  for (const Eigen::Vector2d& s : shifts)
-    for (Eigen::Index k = 0; k < layout.cornerUV.rows(); ++k) {
-      const Eigen::Vector2d p = layout.cornerUV.row(k).transpose() + s;
-      low = low.cwiseMin(p);
-      high = high.cwiseMax(p);
-    }
-  Frame frame;
+  const std::vector<Eigen::Vector2d> shifts = coverShifts(layout, options.coverRadius);
+  auto [low, high] = shiftedBounds(layout, shifts);
+  SvgFrame frame;
   frame.low = low;
   frame.top = high.y();
   const Eigen::Vector2d extent = (high - low).cwiseMax(1e-300);

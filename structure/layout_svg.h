@@ -1,7 +1,9 @@
 #pragma once
 // A picture of a flat layout as SVG text: the triangles, the seams, the cones and, for a flat
 // torus, a piece of the universal cover tiled by the periods.
+#include <array>
 #include <string>
+#include <vector>
 
 #include "structure/flat_layout.h"
 #include "structure/tri_mesh.h"
@@ -15,6 +17,24 @@ struct LayoutSvgOptions {
   /// (1 gives the 3 x 3 copies of a finite piece of the universal cover). 0 draws the layout alone.
   int coverRadius = 0;
 };
+
+/// Maps layout coordinates to SVG pixels (y up in the layout, down in SVG).
+struct SvgFrame {
+  Eigen::Vector2d low;
+  double top = 0.0;
+  double scale = 1.0;
+  double margin = 10.0;
+  Eigen::Vector2d operator()(const Eigen::Vector2d& p) const {
+    return {margin + (p.x() - low.x()) * scale, margin + (top - p.y()) * scale};
+  }
+};
+
+/// The deck translations i p0 + j p1 for |i|, |j| <= radius (only zero for radius 0).
+std::vector<Eigen::Vector2d> coverShifts(const FlatLayout& layout, int radius);
+
+/// Lower and upper corners of the box holding every layout corner moved by every shift.
+std::array<Eigen::Vector2d, 2> shiftedBounds(const FlatLayout& layout,
+                                             const std::vector<Eigen::Vector2d>& shifts);
 
 /// The SVG document: one <polygon> per drawn face (the layout's copy is filled darker), each
 /// seam edge in red on both sides, the boundary in black, cones as blue dots and, with periods,

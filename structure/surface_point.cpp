@@ -1,6 +1,7 @@
 #include "structure/surface_point.h"
 
 #include <cmath>
+#include <random>
 #include <sstream>
 
 #include "structure/errors.h"
@@ -30,6 +31,20 @@ Eigen::Vector3d surfacePosition(const TriMesh& mesh, const SurfacePoint& point) 
     position += point.barycentric[k++] * Eigen::Vector3d(p[0], p[1], p[2]);
   }
   return position;
+}
+
+std::vector<SurfacePoint> randomSurfacePoints(const TriMesh& mesh, int count, unsigned seed) {
+  std::mt19937 random(seed);
+  std::uniform_int_distribution<int> face(0, static_cast<int>(mesh.n_faces()) - 1);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<SurfacePoint> points(static_cast<std::size_t>(count));
+  for (SurfacePoint& point : points) {
+    point.face = face(random);
+    // Uniform in the triangle: the square-root trick.
+    const double s = std::sqrt(unit(random)), t = unit(random);
+    point.barycentric = {1.0 - s, s * (1.0 - t), s * t};
+  }
+  return points;
 }
 
 }  // namespace mspline::structure

@@ -7,21 +7,11 @@
 #include <Eigen/Core>
 
 #include "structure/errors.h"
+#include "structure/layout_svg.h"
 
 namespace mspline::structure {
 
 namespace {
-
-// Maps layout coordinates to pixels (y up in the layout, down in SVG).
-struct Frame {
-  Eigen::Vector2d low;
-  double top = 0.0;
-  double scale = 1.0;
-  double margin = 10.0;
-  Eigen::Vector2d operator()(const Eigen::Vector2d& p) const {
-    return {margin + (p.x() - low.x()) * scale, margin + (top - p.y()) * scale};
-  }
-};
 
 // Hues a golden angle apart, so that neighbouring labels differ.
 std::string cellColour(int label, bool home) {
@@ -41,23 +31,13 @@ std::string torusVoronoiSvg(const TriMesh& mesh, const FlatLayout& layout,
                      voronoi.faceLabel.size() == mesh.n_faces(),
                  "layout or diagram does not belong to this mesh");
 
-  std::vector<Eigen::Vector2d> shifts;
-  const int r = options.coverRadius;
-  for (int i = -r; i <= r; ++i)
-    for (int j = -r; j <= r; ++j) shifts.push_back(i * layout.periods[0] + j * layout.periods[1]);
-  Eigen::Vector2d low = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
-  Eigen::Vector2d high = -low;
-  for (const Eigen::Vector2d& s : shifts)
-    for (Eigen::Index k = 0; k < layout.cornerUV.rows(); ++k) {
-      const Eigen::Vector2d p = layout.cornerUV.row(k).transpose() + s;
-      low = low.cwiseMin(p);
-      high = high.cwiseMax(p);
-    }
+  const std::vector<Eigen::Vector2d> shifts = coverShifts(layout, options.coverRadius);
+  auto [low, high] = shiftedBounds(layout, shifts);
   for (const Eigen::Vector2d& corner : layout.fundamentalParallelogram) {
     low = low.cwiseMin(corner);
     high = high.cwiseMax(corner);
   }
-  Frame frame;
+  SvgFrame frame;
   frame.low = low;
   frame.top = high.y();
   const Eigen::Vector2d extent = (high - low).cwiseMax(1e-300);

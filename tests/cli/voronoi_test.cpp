@@ -14,13 +14,6 @@ using mspline::test::runCommand;
 
 namespace {
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 std::size_t countOf(const std::string& text, const std::string& word) {
   std::size_t count = 0;
   for (auto at = text.find(word); at != std::string::npos; at = text.find(word, at + 1)) ++count;
@@ -47,19 +40,19 @@ TEST_CASE("voronoi: 20 random sites on knot1.off", "[cli]") {
   CHECK(report["faces_per_cell"]["max"].get<int>() < 6400);
   CHECK(report["replicated_sites"] == 180);
   CHECK(report["max_equidistance_error"].get<double>() <= 1e-12);
-  const std::string obj = slurp(out);
+  const std::string obj = mspline::test::fileText(out);
   CHECK(countOf(obj, "\ng cell_") == 20);
   CHECK(countOf(obj, "\nf ") == 6400);
   CHECK(countOf(obj, "\nl ") == report["boundary_polylines"].get<std::size_t>());
   CHECK(report["boundary_polylines"].get<int>() > 20);
-  CHECK(slurp(svg).rfind("<svg", 0) == 0);
+  CHECK(mspline::test::fileText(svg).rfind("<svg", 0) == 0);
 
   // The default seed makes the output reproducible; another seed moves the sites.
   const std::string again = dir + "/again.obj", other = dir + "/other.obj";
   voronoi(realMeshPath("knot1.off") + " --sites 20 -o " + again);
   voronoi(realMeshPath("knot1.off") + " --sites 20 --seed 9 -o " + other);
-  CHECK(slurp(again) == obj);
-  CHECK(slurp(other) != obj);
+  CHECK(mspline::test::fileText(again) == obj);
+  CHECK(mspline::test::fileText(other) != obj);
 }
 
 TEST_CASE("voronoi: sites from a file", "[cli]") {
@@ -74,7 +67,7 @@ TEST_CASE("voronoi: sites from a file", "[cli]") {
   std::ofstream(sites) << "10 0.2 0.3 0.5\n3000 1 0 0\n2000 0.1 0.1 0.8\n";
   auto elk = voronoi(realMeshPath("elk.off") + " --sites " + sites + " -o " + dir + "/elk.obj");
   CHECK(elk["cells"] == 3);
-  CHECK(countOf(slurp(dir + "/elk.obj"), "\nf ") > 3290);
+  CHECK(countOf(mspline::test::fileText(dir + "/elk.obj"), "\nf ") > 3290);
 }
 
 TEST_CASE("voronoi: bad input exits 2 and says why", "[cli]") {

@@ -14,17 +14,6 @@
 
 using namespace mspline;
 
-namespace {
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-}  // namespace
-
 TEST_CASE("atlas_file: round trip of a flat torus atlas", "[io]") {
   const auto mesh = test::torus(24, 10);
   const auto flow = structure::solveVertexScaling(mesh, structure::flatTarget(mesh, {}));
@@ -59,7 +48,7 @@ TEST_CASE("atlas_file: broken files are input errors naming the file", "[io]") {
   const std::string dir = test::scratchDirectory("io_atlas_file_bad");
   const std::string good = dir + "/good.json";
   io::writeAtlas(good, mesh, atlas);
-  const std::string text = slurp(good);
+  const std::string text = mspline::test::fileText(good);
 
   const auto expectInputError = [&](const std::string& name, const std::string& content,
                                     const std::string& words) {

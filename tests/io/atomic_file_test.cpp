@@ -15,13 +15,6 @@ namespace {
 namespace fs = std::filesystem;
 using mspline::io::writeFileAtomically;
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 std::size_t entries(const std::string& dir) {
   std::size_t count = 0;
   for ([[maybe_unused]] const auto& entry : fs::directory_iterator(dir)) ++count;
@@ -34,9 +27,9 @@ TEST_CASE("atomic_file: writes and replaces the target, leaving no temporary", "
   std::string dir = mspline::test::scratchDirectory("atomic_file_success");
   std::string path = dir + "/out.txt";
   writeFileAtomically(path, [](std::ostream& out) { out << "first\n"; });
-  CHECK(slurp(path) == "first\n");
+  CHECK(mspline::test::fileText(path) == "first\n");
   writeFileAtomically(path, [](std::ostream& out) { out.write("sec\0nd", 6); });
-  CHECK(slurp(path) == std::string("sec\0nd", 6));
+  CHECK(mspline::test::fileText(path) == std::string("sec\0nd", 6));
   CHECK(entries(dir) == 1);
 }
 
@@ -52,7 +45,7 @@ TEST_CASE("atomic_file: a throwing writer leaves the target untouched", "[io]") 
 
   writeFileAtomically(path, [](std::ostream& out) { out << "kept"; });
   CHECK_THROWS_WITH(writeFileAtomically(path, failing), "writer gave up");
-  CHECK(slurp(path) == "kept");
+  CHECK(mspline::test::fileText(path) == "kept");
   CHECK(entries(dir) == 1);
 }
 

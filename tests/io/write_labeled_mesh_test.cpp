@@ -15,13 +15,6 @@ namespace {
 using mspline::io::LabeledPolyline;
 using mspline::io::writeLabeledObj;
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 }  // namespace
 
 TEST_CASE("write_labeled_mesh: groups by label and polylines", "[io]") {
@@ -36,7 +29,7 @@ TEST_CASE("write_labeled_mesh: groups by label and polylines", "[io]") {
   const std::string expectedTail =
       "g open\nv 0 0 1\nv 1 0 1\nv 1 1 1\nl 10 11 12\n"
       "g closed\nv 0 0 2\nv 1 0 2\nv 1 1 2\nl 13 14 15 13\n";
-  const std::string text = slurp(path);
+  const std::string text = mspline::test::fileText(path);
   CHECK(text.size() > expectedTail.size());
   CHECK(text.compare(text.size() - expectedTail.size(), expectedTail.size(), expectedTail) == 0);
   // Groups in ascending label order, each face once, under its label.

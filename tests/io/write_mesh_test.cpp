@@ -40,13 +40,6 @@ bool bitIdentical(const std::vector<std::array<double, 3>>& a,
          std::memcmp(a.data(), b.data(), a.size() * sizeof(std::array<double, 3>)) == 0;
 }
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 }  // namespace
 
 TEST_CASE("write_mesh: OBJ, OFF and PLY round trips are bit-exact", "[io]") {
@@ -68,8 +61,9 @@ TEST_CASE("write_mesh: OBJ, OFF and PLY round trips are bit-exact", "[io]") {
     CHECK(back.soup.faces == soup.faces);
     CHECK(back.warnings.empty());
   }
-  CHECK(slurp(dir + "/m.ply").find("format binary_little_endian 1.0") != std::string::npos);
-  CHECK(slurp(dir + "/ascii.ply").find("format ascii 1.0") != std::string::npos);
+  CHECK(mspline::test::fileText(dir + "/m.ply").find("format binary_little_endian 1.0") !=
+        std::string::npos);
+  CHECK(mspline::test::fileText(dir + "/ascii.ply").find("format ascii 1.0") != std::string::npos);
 }
 
 TEST_CASE("write_mesh: non-finite coordinates survive text formats", "[io]") {
@@ -103,7 +97,7 @@ TEST_CASE("write_mesh: OBJ writes per-corner UVs when asked", "[io]") {
   MeshWriteOptions noUVs;
   noUVs.writeUVs = false;
   writeMesh(path, soup, noUVs);
-  CHECK(slurp(path).find("vt") == std::string::npos);
+  CHECK(mspline::test::fileText(path).find("vt") == std::string::npos);
   CHECK(readMesh(path).soup.cornerUVs.empty());
 
   soup.cornerUVs.pop_back();
@@ -119,7 +113,7 @@ TEST_CASE("write_mesh: binary STL rounds positions to float", "[io]") {
   std::string path = dir + "/m.stl";
   writeMesh(path, soup);
   CHECK(fs::file_size(path) == 84 + 50 * soup.faces.size());
-  CHECK(slurp(path).compare(0, 5, "solid") != 0);
+  CHECK(mspline::test::fileText(path).compare(0, 5, "solid") != 0);
   auto back = readMesh(path).soup;
   REQUIRE(back.faces.size() == soup.faces.size());
   CHECK(back.positions.size() == soup.positions.size());  // shared corners merged again

@@ -34,19 +34,6 @@ FlatLayout flatLayout(const TriMesh& mesh, const std::vector<structure::Cone>& c
   return structure::layoutFlatMetric(mesh, flow.edgeLengths);
 }
 
-std::vector<SurfacePoint> randomSites(const TriMesh& mesh, int count, unsigned seed) {
-  std::mt19937 random(seed);
-  std::uniform_int_distribution<int> face(0, static_cast<int>(mesh.n_faces()) - 1);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<SurfacePoint> sites(count);
-  for (SurfacePoint& site : sites) {
-    site.face = face(random);
-    const double s = std::sqrt(unit(random)), t = unit(random);
-    site.barycentric = {1.0 - s, s * (1.0 - t), s * t};
-  }
-  return sites;
-}
-
 Eigen::Vector2d layoutPoint(const FlatLayout& layout, const SurfacePoint& p) {
   return layout.cornerUV.middleRows(3 * p.face, 3).transpose() * p.barycentric;
 }
@@ -243,7 +230,7 @@ std::size_t countOf(const std::string& text, const std::string& word) {
 TEST_CASE("flat_torus_voronoi: knot1.off with 20 random sites", "[structure]") {
   const TriMesh mesh = test::realMesh("knot1.off");
   const FlatLayout layout = flatLayout(mesh);
-  const auto sites = randomSites(mesh, 20, 1);
+  const auto sites = structure::randomSurfacePoints(mesh, 20, 1);
   const TorusVoronoi voronoi = checkVoronoi("knot1.off", mesh, layout, sites);
   CHECK(voronoi.cells == 20);
   CHECK_FALSE(voronoi.polylines.empty());
@@ -276,8 +263,9 @@ TEST_CASE("flat_torus_voronoi: generated torus", "[structure]") {
   const TriMesh mesh = test::torus(32, 16);
   const FlatLayout layout = flatLayout(mesh);
   for (int count : {1, 2, 7, 30}) {
-    const TorusVoronoi voronoi = checkVoronoi("torus(32, 16), " + std::to_string(count) + " sites",
-                                              mesh, layout, randomSites(mesh, count, 5));
+    const TorusVoronoi voronoi =
+        checkVoronoi("torus(32, 16), " + std::to_string(count) + " sites", mesh, layout,
+                     structure::randomSurfacePoints(mesh, count, 5));
     if (count == 1) {
       // A single site's copies form a lattice, cocircular everywhere: one cell, no boundary.
       CHECK(voronoi.cells == 1);

@@ -40,7 +40,7 @@ std::string scratchDirectory(const std::string& testName) {
   return dir.string();
 }
 
-static std::string slurp(const fs::path& path) {
+std::string fileText(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::ostringstream text;
   text << in.rdbuf();
@@ -62,8 +62,8 @@ CommandResult runCommand(const std::string& commandLine) {
   }
   // The shell reports a child killed by a signal as 128 + signal.
   if (result.exitCode > 128) result.exitCode = -1;
-  result.out = slurp(stem + ".out");
-  result.err = slurp(stem + ".err");
+  result.out = fileText(stem + ".out");
+  result.err = fileText(stem + ".err");
   fs::remove(stem + ".out");
   fs::remove(stem + ".err");
   return result;

@@ -13,6 +13,9 @@ std::string realMeshPath(const std::string& name);
 /// The fetched real mesh, loaded and validated (fails the test if it is missing or invalid).
 structure::TriMesh realMesh(const std::string& name);
 
+/// The whole content of a file ("" when it cannot be read).
+std::string fileText(const std::string& path);
+
 /// The mspline command built with the tests.
 std::string cliPath();
 
