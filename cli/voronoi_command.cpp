@@ -16,7 +16,9 @@
 #include "cli/flatten_pipeline.h"
 #include "io/atomic_file.h"
 #include "io/load_mesh.h"
+#include "io/raster_image.h"
 #include "io/read_mesh.h"
+#include "io/surface_pictures.h"
 #include "io/write_labeled_mesh.h"
 #include "structure/errors.h"
 #include "structure/flat_torus_voronoi.h"
@@ -36,6 +38,7 @@ struct VoronoiArguments {
   std::string sites;
   std::string output;
   std::string svg;
+  std::string png;
   bool cover = false;
   unsigned seed = 1;
   bool quiet = false;
@@ -132,6 +135,7 @@ void addVoronoiCommand(CLI::App& app, Command& command) {
       ->required();
   sub->add_option("--svg", arguments->svg, "Also write a picture of the cells on the layout");
   sub->add_flag("--cover", arguments->cover, "With --svg: draw 3 x 3 copies of the layout");
+  sub->add_option("--png", arguments->png, "Also write a picture of the surface colored by cell");
   sub->add_option("--seed", arguments->seed, "Seed of the random sites (default 1)");
   sub->add_flag("-q,--quiet", arguments->quiet, "No progress on stderr");
   sub->add_flag("--json", command.json, "Print one JSON object on stdout");
@@ -141,6 +145,8 @@ void addVoronoiCommand(CLI::App& app, Command& command) {
       const VoronoiArguments& a = *arguments;
       if (io::meshFormatFromPath(a.output) != io::MeshFormat::Obj)
         throw InputError(a.output + ": voronoi writes groups and polylines, which only OBJ holds");
+      if (!a.png.empty() && (a.png.size() < 4 || a.png.compare(a.png.size() - 4, 4, ".png") != 0))
+        throw InputError(a.png + ": --png writes PNG files (.png)");
       auto progress = [&](const std::string& line) {
         if (!a.quiet) std::cerr << "voronoi: " << line << std::endl;
       };
@@ -188,6 +194,8 @@ void addVoronoiCommand(CLI::App& app, Command& command) {
             torusVoronoiSvg(surface, flat.layout, sites, voronoi, svgOptions);
         io::writeFileAtomically(a.svg, [&](std::ostream& out) { out << picture; });
       }
+      if (!a.png.empty())
+        io::writePng(a.png, io::renderSurfaceLabels(surface, voronoi.faceLabel, {}));
       const double seconds = clock.lap();
 
       const auto [fewest, most] = std::minmax_element(facesPerCell.begin(), facesPerCell.end());

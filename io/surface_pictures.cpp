@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iterator>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -249,9 +250,14 @@ RasterImage renderLayout(const TriMesh& surface, const FlatLayout& layout,
                      {Vector2d::Zero()}, {{kCheckerColors[0], kCheckerColors[1]}}, false);
 }
 
-RasterImage renderSurface(const TriMesh& surface, const FlatLayout& layout,
-                          const PictureOptions& options, SurfaceTexture texture) {
-  checkOptions(surface, layout, options);
+namespace {
+
+// The surface seen from the options' direction (z-buffer, Lambert shading by face normals, lit
+// from both sides), the pixel at barycentric coordinates w of face f colored color(f, w) and
+// edges with cut[e] drawn as seams.
+template <class Color>
+RasterImage renderView(const TriMesh& surface, const std::vector<char>& cut,
+                       const PictureOptions& options, Color color) {
   const Eigen::Matrix3d rotation =
       (Eigen::AngleAxisd(options.pitchDegrees * kPi / 180.0, Vector3d::UnitX()) *
        Eigen::AngleAxisd(options.yawDegrees * kPi / 180.0, Vector3d::UnitY()))
@@ -266,23 +272,16 @@ RasterImage renderSurface(const TriMesh& surface, const FlatLayout& layout,
     high = high.cwiseMax(view[v.idx()].head<2>());
   }
   const Fit fit(low, high, options);
-  const bool checker = texture == SurfaceTexture::Checker;
-  const PatternFrame frame = checker ? patternFrame(layout, options.checkerSize, true)
-                                     : patternFrame(layout, options.lineSpacing, false);
   const Vector3d light = Vector3d(-0.4, 0.5, 1.0).normalized();  // from the upper left, in front
   constexpr double kAmbient = 0.3;
-  std::vector<char> cut(surface.n_edges(), 0);
-  if (options.seams)
-    for (int e : layout.cutEdges) cut[e] = 1;
   Canvas canvas(options);
   for (auto f : surface.faces()) {
     std::array<Vector3d, 3> x;
-    std::array<Vector2d, 3> uv, p;
+    std::array<Vector2d, 3> p;
     std::array<double, 3> z;
     int k = 0;
     for (auto v : surface.fv_range(f)) {
       x[k] = view[v.idx()];
-      uv[k] = cornerUV(layout, f.idx(), k);
       p[k] = fit(x[k].head<2>());
       z[k] = -x[k].z();  // the viewer looks along -z
       ++k;
@@ -291,24 +290,55 @@ RasterImage renderSurface(const TriMesh& surface, const FlatLayout& layout,
     unsigned seams = 0;
     int j = 0;
     for (auto h : surface.fh_range(f)) {
-      if (cut[surface.edge_handle(h).idx()]) seams |= 1u << (j + 1) % 3;
+      if (!cut.empty() && cut[surface.edge_handle(h).idx()]) seams |= 1u << (j + 1) % 3;
       ++j;
     }
     const Vector3d normal = (x[1] - x[0]).cross(x[2] - x[0]).normalized();
-    // Both sides lit alike, so that the inside of an open surface shows too.
     const double brightness = kAmbient + (1.0 - kAmbient) * std::abs(normal.dot(light));
     canvas.fill(
-        p, z,
-        [&](const Vector3d& w) {
-          const Vector2d at = w[0] * uv[0] + w[1] * uv[1] + w[2] * uv[2];
-          const Rgb base = checker
-                               ? kCheckerColors[checkerParity(frame, at)]
-                               : (onLine(frame, options.lineWidth, at) ? kLinesInk : kLinesPaper);
-          return scaled(base, brightness);
-        },
-        seams);
+        p, z, [&](const Vector3d& w) { return scaled(color(f.idx(), w), brightness); }, seams);
   }
   return std::move(canvas.image);
+}
+
+}  // namespace
+
+RasterImage renderSurface(const TriMesh& surface, const FlatLayout& layout,
+                          const PictureOptions& options, SurfaceTexture texture) {
+  checkOptions(surface, layout, options);
+  const bool checker = texture == SurfaceTexture::Checker;
+  const PatternFrame frame = checker ? patternFrame(layout, options.checkerSize, true)
+                                     : patternFrame(layout, options.lineSpacing, false);
+  std::vector<char> cut(surface.n_edges(), 0);
+  if (options.seams)
+    for (int e : layout.cutEdges) cut[e] = 1;
+  return renderView(surface, cut, options, [&](int f, const Vector3d& w) {
+    const Vector2d at = w[0] * cornerUV(layout, f, 0) + w[1] * cornerUV(layout, f, 1) +
+                        w[2] * cornerUV(layout, f, 2);
+    return checker ? kCheckerColors[checkerParity(frame, at)]
+                   : (onLine(frame, options.lineWidth, at) ? kLinesInk : kLinesPaper);
+  });
+}
+
+Rgb labelColor(int label) {
+  // Hues a golden angle apart, so that neighbouring labels differ; HSV with s = 0.6, v = 0.95.
+  const double hue = std::fmod(label * 137.50776405, 360.0) / 60.0;
+  const double c = 0.95 * 0.6, x = c * (1.0 - std::abs(std::fmod(hue, 2.0) - 1.0)), m = 0.95 - c;
+  const int sector = static_cast<int>(hue) % 6;
+  const double rgb[6][3] = {{c, x, 0}, {x, c, 0}, {0, c, x}, {0, x, c}, {x, 0, c}, {c, 0, x}};
+  const auto channel = [&](double value) {
+    return static_cast<std::uint8_t>(std::lround(255.0 * (value + m)));
+  };
+  return {channel(rgb[sector][0]), channel(rgb[sector][1]), channel(rgb[sector][2])};
+}
+
+RasterImage renderSurfaceLabels(const TriMesh& surface, const std::vector<int>& faceLabel,
+                                const PictureOptions& options) {
+  if (faceLabel.size() != surface.n_faces())
+    throw InputError("picture: " + std::to_string(faceLabel.size()) + " labels for " +
+                     std::to_string(surface.n_faces()) + " faces");
+  return renderView(surface, {}, options,
+                    [&](int f, const Vector3d&) { return labelColor(faceLabel[std::size_t(f)]); });
 }
 
 RasterImage renderCover(const TriMesh& surface, const FlatLayout& layout,

@@ -7,6 +7,8 @@
 // even for the checkerboard), so it is invariant under the deck translations: the checkerboard and
 // the lines continue across the seams without a jump. Elsewhere it is axis-aligned in the layout:
 // squares, and lines u = const.
+#include <vector>
+
 #include "io/raster_image.h"
 #include "structure/flat_layout.h"
 #include "structure/tri_mesh.h"
@@ -60,6 +62,14 @@ RasterImage renderLayout(const structure::TriMesh& surface, const structure::Fla
 /// through the per-corner UVs.
 RasterImage renderSurface(const structure::TriMesh& surface, const structure::FlatLayout& layout,
                           const PictureOptions& options, SurfaceTexture texture);
+
+/// A color per label, hues a golden angle apart so that neighbouring labels differ.
+Rgb labelColor(int label);
+
+/// The surface in 3D as renderSurface shows it, each face in the color of its label (e.g. a
+/// Voronoi cell). InputError unless there is one label per face.
+RasterImage renderSurfaceLabels(const structure::TriMesh& surface,
+                                const std::vector<int>& faceLabel, const PictureOptions& options);
 
 /// A flat torus' universal cover: the layout translated by the periods, the home copy (m = n = 0)
 /// in kCheckerColors and every other copy's checkerboard in a light and a dark shade of its own

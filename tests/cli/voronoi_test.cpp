@@ -31,8 +31,9 @@ nlohmann::json voronoi(const std::string& arguments) {
 
 TEST_CASE("voronoi: 20 random sites on knot1.off", "[cli]") {
   const std::string dir = mspline::test::scratchDirectory("cli_voronoi_knot");
-  const std::string out = dir + "/cells.obj", svg = dir + "/cells.svg";
-  auto report = voronoi(realMeshPath("knot1.off") + " --sites 20 -o " + out + " --svg " + svg);
+  const std::string out = dir + "/cells.obj", svg = dir + "/cells.svg", png = dir + "/cells.png";
+  auto report = voronoi(realMeshPath("knot1.off") + " --sites 20 -o " + out + " --svg " + svg +
+                        " --png " + png);
   WARN("knot1.off, 20 sites: " << report.dump());
   CHECK(report["sites"] == 20);
   CHECK(report["cells"] == 20);
@@ -46,6 +47,7 @@ TEST_CASE("voronoi: 20 random sites on knot1.off", "[cli]") {
   CHECK(countOf(obj, "\nl ") == report["boundary_polylines"].get<std::size_t>());
   CHECK(report["boundary_polylines"].get<int>() > 20);
   CHECK(mspline::test::fileText(svg).rfind("<svg", 0) == 0);
+  CHECK(mspline::test::fileText(png).rfind("\x89PNG\r\n\x1a\n", 0) == 0);
 
   // The default seed makes the output reproducible; another seed moves the sites.
   const std::string again = dir + "/again.obj", other = dir + "/other.obj";

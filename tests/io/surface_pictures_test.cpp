@@ -90,6 +90,28 @@ TEST_CASE("surface_pictures: the checkerboard covers the knot with both colors",
   CHECK(shares.unclassified < 0.01);
 }
 
+TEST_CASE("surface_pictures: faces colored by label", "[io]") {
+  const auto& [mesh, layout] = knot();
+  // Two labels: the faces left and right of the knot's middle.
+  std::vector<double> xs;
+  for (const auto f : mesh.faces()) xs.push_back(mesh.calc_face_centroid(f)[0]);
+  std::vector<double> sorted = xs;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  std::vector<int> labels;
+  for (double x : xs) labels.push_back(x < sorted[sorted.size() / 2] ? 0 : 1);
+  const io::RasterImage image = io::renderSurfaceLabels(mesh, labels, {});
+  const Shares shares = shadedShares(image, io::labelColor(0), io::labelColor(1));
+  WARN("labels: colors " << shares.first << " / " << shares.second << ", unclassified "
+                         << shares.unclassified);
+  CHECK(shares.first > 0.2);
+  CHECK(shares.second > 0.2);
+  CHECK(shares.unclassified < 0.01);
+  for (int a = 0; a < 20; ++a)
+    for (int b = 0; b < a; ++b) CHECK(io::labelColor(a) != io::labelColor(b));
+  labels.pop_back();
+  CHECK_THROWS_AS(io::renderSurfaceLabels(mesh, labels, {}), structure::InputError);
+}
+
 TEST_CASE("surface_pictures: the layout is filled with the checkerboard", "[io]") {
   const auto& [mesh, layout] = knot();
   io::PictureOptions options;
