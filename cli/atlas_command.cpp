@@ -29,6 +29,7 @@ Json atlasFigures(const AffineAtlas& atlas) {
           {"max_cocycle_residual", atlas.maxCocycleResidual},
           {"transition_kind", transitionKindName(atlas.kind)},
           {"max_kind_angle_error", atlas.maxKindAngleError},
+          {"flatness_defect", atlas.flatnessDefect},
           {"uncovered_faces", atlas.uncoveredFaces}};
 }
 

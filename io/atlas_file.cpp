@@ -52,6 +52,7 @@ void writeAtlas(const std::string& path, const structure::TriMesh& mesh,
                          {"version", kVersion},
                          {"mesh", {{"vertices", vertices}, {"faces", faces}}},
                          {"diameter", atlas.diameter},
+                         {"flatness_defect", atlas.flatnessDefect},
                          {"cones", cones},
                          {"charts", charts},
                          {"transitions", transitions}};
@@ -97,6 +98,8 @@ LoadedAtlas readAtlas(const std::string& path) {
     auto& atlas = out.atlas;
     atlas.diameter = document.at("diameter").get<double>();
     if (!(atlas.diameter > 0.0)) throw fail("the diameter is not positive");
+    atlas.flatnessDefect = document.at("flatness_defect").get<double>();
+    if (!(atlas.flatnessDefect >= 0.0)) throw fail("the flatness defect is negative");
     for (const auto& cone : document.at("cones"))
       atlas.cones.push_back({vertexIndex(cone.at(0), "a cone"), cone.at(1).get<double>()});
     atlas.chartOfVertex.assign(std::size_t(n), -1);

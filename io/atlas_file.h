@@ -4,7 +4,7 @@
 //
 //   {"format": "mspline-atlas", "version": 1,
 //    "mesh": {"vertices": [[x, y, z], ...], "faces": [[a, b, c], ...]},
-//    "diameter": d,
+//    "diameter": d, "flatness_defect": e,
 //    "cones": [[vertex, curvature], ...],
 //    "charts": [{"vertex": v, "faces": [f, ...], "vertices": [v, w, ...],
 //                "positions": [[x, y], ...]}, ...],

@@ -183,6 +183,7 @@ AffineAtlas buildAffineAtlas(const TriMesh& mesh, const Eigen::VectorXd& flatLen
       atlas.cones.push_back({v.idx(), curvature[v.idx()]});
       continue;
     }
+    if (!mesh.is_boundary(v)) atlas.flatnessDefect += std::abs(curvature[v.idx()]);
     if (mesh.valence(v) == 0) continue;
     atlas.chartOfVertex[std::size_t(v.idx())] = int(atlas.charts.size());
     atlas.charts.push_back(layOutStar(mesh, flatLengths, angles, layout, v));
@@ -248,10 +249,11 @@ void measureAtlas(const TriMesh& mesh, AffineAtlas& atlas, const AffineAtlasOpti
     quarterTurnError =
         std::max(quarterTurnError, std::abs(quarters - std::round(quarters)) * kPi / 2.0);
   }
-  if (translationError <= options.angleTolerance) {
+  const double tolerance = options.angleTolerance + atlas.flatnessDefect;
+  if (translationError <= tolerance) {
     atlas.kind = TransitionKind::Translation;
     atlas.maxKindAngleError = translationError;
-  } else if (quarterTurnError <= options.angleTolerance) {
+  } else if (quarterTurnError <= tolerance) {
     atlas.kind = TransitionKind::Rotation90;
     atlas.maxKindAngleError = quarterTurnError;
   }

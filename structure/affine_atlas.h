@@ -81,7 +81,12 @@ struct AffineAtlas {
   /// max over faces with three charts of |T_ca(T_bc(T_ab(x))) - x| over the face's vertices,
   /// relative to the diameter: the cocycle condition.
   double maxCocycleResidual = 0.0;
-  /// The coarsest kind all transitions fit (angles within angleTolerance of the kind's).
+  /// Sum of |curvature| over the interior vertices that are not cones: the metric is flat there
+  /// only to the solver's tolerance, and a transition's angle can be off by at most this much
+  /// (the curvature its path encloses), so the kind is judged up to it.
+  double flatnessDefect = 0.0;
+  /// The coarsest kind all transitions fit (angles within angleTolerance + flatnessDefect of the
+  /// kind's).
   TransitionKind kind = TransitionKind::Rigid;
   /// max distance of a transition angle from its kind's angles (radians).
   double maxKindAngleError = 0.0;
@@ -98,11 +103,9 @@ struct AffineAtlas {
 struct AffineAtlasOptions {
   /// Interior vertices with |curvature| above this (radians) are cones and get no chart.
   double coneTolerance = 1e-6;
-  /// A transition angle within this of 0 (or of a multiple of pi/2) counts as such. The flat
-  /// metric is flat only to the solver's tolerance (1e-10 rad per vertex by default), and a
-  /// transition's angle sums that error over the vertices its path encloses: on bunny00 (37k
-  /// vertices) it reaches 9e-10. Generic rotations are off by far more.
-  double angleTolerance = 1e-7;
+  /// A transition angle within this plus AffineAtlas::flatnessDefect of 0 (or of a multiple of
+  /// pi/2) counts as such.
+  double angleTolerance = 1e-9;
 };
 
 /// Builds the atlas of the flat metric `flatLengths` (by edge index) on `mesh`, with charts

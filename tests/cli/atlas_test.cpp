@@ -36,8 +36,9 @@ TEST_CASE("atlas: bunny00 with quantized cones turns by quarter turns", "[cli][s
   const std::string dir = mspline::test::scratchDirectory("cli_atlas_bunny");
   auto report = atlas(realMeshPath("bunny00.off") + " --quantize -o " + dir + "/b.json");
   CHECK(report["transition_kind"] == "rotation90");
-  // Quarter turns up to the flow's tolerance summed along the transitions' paths (~1e-9 here).
-  CHECK(report["max_kind_angle_error"].get<double>() <= 1e-8);
+  // Quarter turns up to the curvature the flow leaves at the flat vertices.
+  CHECK(report["max_kind_angle_error"].get<double>() <=
+        1e-9 + report["flatness_defect"].get<double>());
   CHECK(report["max_transition_residual"].get<double>() <= 1e-10);
   CHECK(report["max_cocycle_residual"].get<double>() <= 1e-10);
   CHECK(report["uncovered_faces"] == 0);
