@@ -8,7 +8,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -77,8 +79,16 @@ void runSize(const structure::TriMesh& base, std::size_t faces) {
     const auto atlas = structure::buildAffineAtlas(mesh, flow.edgeLengths, layout);
     atlasSeconds = since(atlasStart);
     char summary[160];
-    std::snprintf(summary, sizeof summary, "%zu charts, %s, residuals %.1e / %.1e",
+    double quarterTurnError = 0.0;
+    for (const auto& t : atlas.transitions) {
+      const double quarters = t.motion.angle / (3.14159265358979323846 / 2);
+      quarterTurnError = std::max(quarterTurnError, std::abs(quarters - std::round(quarters)));
+    }
+    std::snprintf(summary, sizeof summary,
+                  "%zu charts, %s (quarter turns to %.1e rad, flatness defect %.1e), residuals "
+                  "%.1e / %.1e",
                   atlas.charts.size(), structure::transitionKindName(atlas.kind),
+                  quarterTurnError * 3.14159265358979323846 / 2, atlas.flatnessDefect,
                   atlas.maxTransitionResidual, atlas.maxCocycleResidual);
     atlasSummary = summary;
   }

@@ -76,7 +76,6 @@ Chart layOutStar(const TriMesh& mesh, const Eigen::VectorXd& lengths, const Eige
     if (!g0.is_valid()) g0 = h;
   }
   const Eigen::Vector2d centre = layoutCorner(mesh, layout, mesh.prev_halfedge_handle(g0));
-  const Eigen::Vector2d toT = layoutCorner(mesh, layout, g0) - centre;
   std::vector<Eigen::Vector2d> positions = {centre};
   chart.vertices = {v.idx()};
   const auto place = [&](TriMesh::HalfedgeHandle outgoing, double direction) {
@@ -86,7 +85,9 @@ Chart layOutStar(const TriMesh& mesh, const Eigen::VectorXd& lengths, const Eige
     chart.vertices.push_back(w);
     positions.push_back(centre + l * Eigen::Vector2d(std::cos(direction), std::sin(direction)));
   };
-  double direction = std::atan2(toT.y(), toT.x());
+  // The layout's summed direction, not one measured from its positions: that one would carry
+  // their rounding divided by the edge length into every transition's angle.
+  double direction = layout.halfedgeDirection[g0.idx()];
   auto g = g0;
   do {
     chart.faces.push_back(mesh.face_handle(g).idx());
@@ -170,7 +171,8 @@ AffineAtlas buildAffineAtlas(const TriMesh& mesh, const Eigen::VectorXd& flatLen
   if (flatLengths.size() != Eigen::Index(mesh.n_edges()))
     throw InputError("atlas: " + std::to_string(flatLengths.size()) + " edge lengths for " +
                      std::to_string(mesh.n_edges()) + " edges");
-  if (layout.cornerUV.rows() != Eigen::Index(3 * mesh.n_faces()))
+  if (layout.cornerUV.rows() != Eigen::Index(3 * mesh.n_faces()) ||
+      layout.halfedgeDirection.size() != Eigen::Index(mesh.n_halfedges()))
     throw InputError("atlas: the layout is not one of this mesh");
   AffineAtlas atlas;
   atlas.diameter = layout.diameter > 0.0 ? layout.diameter : 1.0;

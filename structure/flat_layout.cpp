@@ -283,7 +283,8 @@ FlatLayout layoutFlatMetric(const TriMesh& mesh, const Eigen::VectorXd& edgeLeng
     throw InternalError("layout: the cut surface is not connected");
   layout.chartPositions = Eigen::MatrixXd::Zero(copies, 2);
   std::vector<char> placed(copies, 0);
-  std::vector<double> direction(mesh.n_halfedges(), 0.0);
+  Eigen::VectorXd& direction = layout.halfedgeDirection;
+  direction = Eigen::VectorXd::Zero(Eigen::Index(mesh.n_halfedges()));
   auto position = [&](TriMesh::HalfedgeHandle h) -> Eigen::Vector2d {
     return layout.chartPositions.row(copyOf[h.idx()]).transpose();
   };

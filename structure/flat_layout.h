@@ -48,6 +48,10 @@ struct FlatLayout {
   std::vector<int> cornerCopy;
   /// Per-corner positions (3 rows per face, as cornerCopy): chartPositions of the corner's copy.
   Eigen::MatrixXd cornerUV;
+  /// For every halfedge inside a face (by idx()): the direction angle of its edge, from its
+  /// from-vertex to its to-vertex, as laid out in its face. Summed from the metric's angles, so
+  /// exact up to rounding even where the edge is too short for positions to tell its direction.
+  Eigen::VectorXd halfedgeDirection;
   /// Sorted interior mesh edges the surface was cut along (empty for a disk without cones).
   std::vector<int> cutEdges;
   /// Interior vertices with non-zero curvature in the metric (cone angle 2 pi - curvature).
