@@ -1,6 +1,7 @@
 #include "cli/flatten_pipeline.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 
 #include "structure/circle_packing_energy.h"
@@ -19,16 +20,18 @@ namespace {
 using namespace structure;
 constexpr double kPi = 3.14159265358979323846;
 
-bool isCount(const std::string& text) {
-  return !text.empty() && std::all_of(text.begin(), text.end(), ::isdigit);
-}
-
 std::vector<Cone> chooseCones(const TriMesh& mesh, const FlattenSettings& arguments) {
   if (arguments.singleCone || arguments.cones == "auto" || isCount(arguments.cones)) {
     ConePlacementOptions options;
     options.quantize = arguments.quantize;
     options.singleCone = arguments.singleCone;
-    if (isCount(arguments.cones)) options.targetCount = std::stoi(arguments.cones);
+    if (isCount(arguments.cones)) {
+      const std::string& text = arguments.cones;
+      const auto parsed =
+          std::from_chars(text.data(), text.data() + text.size(), options.targetCount);
+      if (parsed.ec != std::errc())
+        throw InputError("--cones " + text + ": not a number of cones from 0 to 2^31 - 1");
+    }
     return placeCones(mesh, options).cones;
   }
   if (arguments.cones == "none") return {};
@@ -117,6 +120,10 @@ Json areaDistortion(const TriMesh& mesh, const Eigen::VectorXd& flatLengths,
 }
 
 }  // namespace
+
+bool isCount(const std::string& text) {
+  return !text.empty() && std::all_of(text.begin(), text.end(), ::isdigit);
+}
 
 void addFlattenOptions(CLI::App& sub, FlattenSettings& settings) {
   sub.add_option("--scheme", settings.scheme,

@@ -43,6 +43,10 @@ struct FlattenSettings {
   bool quiet = false;
 };
 
+/// Whether `text` is a whole number written in decimal digits (e.g. a count given where a file
+/// name is also accepted).
+bool isCount(const std::string& text);
+
 /// Adds --scheme, --cones, --quantize, --single-cone, --boundary, --tolerance,
 /// --max-iterations and -q/--quiet to a subcommand.
 void addFlattenOptions(CLI::App& sub, FlattenSettings& settings);

@@ -111,10 +111,6 @@ std::vector<SurfacePoint> sitesOnOverlay(const TriMesh& input, const IntrinsicOv
   return mapped;
 }
 
-bool isCount(const std::string& text) {
-  return !text.empty() && std::all_of(text.begin(), text.end(), ::isdigit);
-}
-
 }  // namespace
 
 void addVoronoiCommand(CLI::App& app, Command& command) {

@@ -11,6 +11,18 @@
 
 namespace mspline::structure {
 
+SvgFrame SvgFrame::fit(const Eigen::Vector2d& low, const Eigen::Vector2d& high,
+                       double drawingWidth) {
+  SvgFrame frame;
+  frame.low = low;
+  frame.top = high.y();
+  const Eigen::Vector2d extent = (high - low).cwiseMax(1e-300);
+  frame.scale = drawingWidth / extent.x();
+  frame.width = drawingWidth + 2 * frame.margin;
+  frame.height = extent.y() * frame.scale + 2 * frame.margin;
+  return frame;
+}
+
 std::vector<Eigen::Vector2d> coverShifts(const FlatLayout& layout, int radius) {
   std::vector<Eigen::Vector2d> shifts;
   for (int i = -radius; i <= radius; ++i)
@@ -42,13 +54,8 @@ std::string layoutSvg(const TriMesh& mesh, const FlatLayout& layout,
 
   const std::vector<Eigen::Vector2d> shifts = coverShifts(layout, options.coverRadius);
   auto [low, high] = shiftedBounds(layout, shifts);
-  SvgFrame frame;
-  frame.low = low;
-  frame.top = high.y();
-  const Eigen::Vector2d extent = (high - low).cwiseMax(1e-300);
-  frame.scale = options.width / extent.x();
-  const double width = options.width + 2 * frame.margin;
-  const double height = extent.y() * frame.scale + 2 * frame.margin;
+  const SvgFrame frame = SvgFrame::fit(low, high, options.width);
+  const double width = frame.width, height = frame.height;
 
   std::ostringstream svg;
   svg.precision(7);

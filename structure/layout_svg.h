@@ -24,6 +24,11 @@ struct SvgFrame {
   double top = 0.0;
   double scale = 1.0;
   double margin = 10.0;
+  /// The drawing's size in pixels, margins included.
+  double width = 0.0;
+  double height = 0.0;
+  /// The frame showing the box [low, high] `drawingWidth` pixels wide.
+  static SvgFrame fit(const Eigen::Vector2d& low, const Eigen::Vector2d& high, double drawingWidth);
   Eigen::Vector2d operator()(const Eigen::Vector2d& p) const {
     return {margin + (p.x() - low.x()) * scale, margin + (top - p.y()) * scale};
   }

@@ -37,13 +37,8 @@ std::string torusVoronoiSvg(const TriMesh& mesh, const FlatLayout& layout,
     low = low.cwiseMin(corner);
     high = high.cwiseMax(corner);
   }
-  SvgFrame frame;
-  frame.low = low;
-  frame.top = high.y();
-  const Eigen::Vector2d extent = (high - low).cwiseMax(1e-300);
-  frame.scale = options.width / extent.x();
-  const double width = options.width + 2 * frame.margin;
-  const double height = extent.y() * frame.scale + 2 * frame.margin;
+  const SvgFrame frame = SvgFrame::fit(low, high, options.width);
+  const double width = frame.width, height = frame.height;
   auto at = [&](const SurfacePoint& p, const Eigen::Vector2d& shift) {
     return frame(layout.cornerUV.middleRows(3 * p.face, 3).transpose() * p.barycentric + shift);
   };
