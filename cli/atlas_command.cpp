@@ -81,6 +81,7 @@ void addAtlasCommand(CLI::App& app, Command& command) {
                            {"max_curvature_error", flat["max_curvature_error"]},
                            {"flips", flat["flips"]},
                            {"flipped_triangles", flat["flipped_triangles"]}};
+      if (flat.contains("holonomy")) report["flatten"]["holonomy"] = flat["holonomy"];
       if (a.check) {
         const io::LoadedAtlas back = io::readAtlas(a.output);
         bool identical = back.atlas.charts.size() == atlas.charts.size() &&

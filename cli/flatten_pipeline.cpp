@@ -8,6 +8,7 @@
 #include "structure/cone_file.h"
 #include "structure/cone_placement.h"
 #include "structure/errors.h"
+#include "structure/holonomy_quantization.h"
 #include "structure/intrinsic_flattening.h"
 #include "structure/ricci_flips.h"
 #include "structure/topology.h"
@@ -19,6 +20,10 @@ namespace {
 
 using namespace structure;
 constexpr double kPi = 3.14159265358979323846;
+
+std::vector<double> asVector(const Eigen::VectorXd& v) {
+  return std::vector<double>(v.data(), v.data() + v.size());
+}
 
 std::vector<Cone> chooseCones(const TriMesh& mesh, const FlattenSettings& arguments) {
   if (arguments.singleCone || arguments.cones == "auto" || isCount(arguments.cones)) {
@@ -225,6 +230,30 @@ Flattening flattenMesh(const TriMesh& mesh, const std::string& file,
 
   out.surface = out.overlay ? &out.overlay->mesh : &mesh;
   out.flatLengths = out.overlay ? out.overlay->edgeLengths : flow.edgeLengths;
+  // Quantized cones make the rotations around cones quarter turns; on a closed surface with
+  // handles the rotations along the handles must be made so too.
+  if (settings.quantize && topology.closed && topology.genus >= 1) {
+    progress("quantizing the rotation along " + std::to_string(2 * topology.genus) +
+             " handle loops");
+    const HolonomyQuantizationResult holonomy =
+        quantizeHolonomy(*out.surface, out.flatLengths, cones);
+    stages["holonomy"] = clock.lap();
+    report["holonomy"] = {{"loops", holonomy.loops.size()},
+                          {"initial_rotations", asVector(holonomy.initialRotation)},
+                          {"target_rotations", asVector(holonomy.targetRotation)},
+                          {"converged", holonomy.converged},
+                          {"iterations", holonomy.iterations},
+                          {"max_residual", holonomy.maxResidual},
+                          {"max_log_length_change", holonomy.maxLogLengthChange}};
+    // A fixed triangulation cannot always follow the deformation (eight.off degenerates; that
+    // needs flips with point tracking): keep the conformal metric, whose seams then turn by
+    // arbitrary angles, and say so.
+    if (holonomy.converged)
+      out.flatLengths = holonomy.edgeLengths;
+    else
+      progress("warning: the handle rotations stay unquantized (" + holonomy.message +
+               "); seams across handles turn by arbitrary angles");
+  }
   progress("laying out");
   out.layout = layoutFlatMetric(*out.surface, out.flatLengths);
   stages["layout"] = clock.lap();

@@ -107,6 +107,20 @@ Chart layOutStar(const TriMesh& mesh, const Eigen::VectorXd& lengths, const Eige
   return chart;
 }
 
+// The vertices of the faces two charts share, where their transition is defined. Other vertices
+// both stars contain lie elsewhere on the surface in one of them (a short loop of edges around a
+// cone or a handle), and there the charts need not agree.
+std::vector<int> overlapVertices(const TriMesh& mesh, const Chart& a, const Chart& b) {
+  std::vector<int> shared;
+  for (int f : a.faces) {
+    if (std::find(b.faces.begin(), b.faces.end(), f) == b.faces.end()) continue;
+    for (const auto w : mesh.fv_range(TriMesh::FaceHandle(f)))
+      if (std::find(shared.begin(), shared.end(), w.idx()) == shared.end())
+        shared.push_back(w.idx());
+  }
+  return shared;
+}
+
 }  // namespace
 
 Eigen::Vector2d RigidMotion::operator()(const Eigen::Vector2d& x) const {
@@ -190,8 +204,7 @@ AffineAtlas buildAffineAtlas(const TriMesh& mesh, const Eigen::VectorXd& flatLen
     atlas.chartOfVertex[std::size_t(v.idx())] = int(atlas.charts.size());
     atlas.charts.push_back(layOutStar(mesh, flatLengths, angles, layout, v));
   }
-  // Transitions fitted on the vertices both stars contain (the edge's ends and the vertices
-  // opposite it).
+  // Transitions fitted on the faces both stars contain (the two faces of the edge).
   std::vector<Eigen::Vector2d> p, q;
   for (const auto e : mesh.edges()) {
     const auto h = mesh.halfedge_handle(e, 0);
@@ -203,11 +216,10 @@ AffineAtlas buildAffineAtlas(const TriMesh& mesh, const Eigen::VectorXd& flatLen
     const Chart& b = atlas.charts[std::size_t(cb)];
     p.clear();
     q.clear();
-    for (std::size_t k = 0; k < a.vertices.size(); ++k)
-      if (b.contains(a.vertices[k])) {
-        p.push_back(a.positions.col(Eigen::Index(k)));
-        q.push_back(b.position(a.vertices[k]));
-      }
+    for (int w : overlapVertices(mesh, a, b)) {
+      p.push_back(a.position(w));
+      q.push_back(b.position(w));
+    }
     atlas.transitions.push_back({ca, cb, fitRigid(p, q), 0.0});
   }
   std::sort(atlas.transitions.begin(), atlas.transitions.end(),
@@ -236,12 +248,9 @@ void measureAtlas(const TriMesh& mesh, AffineAtlas& atlas, const AffineAtlasOpti
     const Chart& a = atlas.charts[std::size_t(t.from)];
     const Chart& b = atlas.charts[std::size_t(t.to)];
     t.residual = 0.0;
-    for (std::size_t k = 0; k < a.vertices.size(); ++k)
-      if (b.contains(a.vertices[k]))
-        t.residual = std::max(
-            t.residual,
-            (t.motion(a.positions.col(Eigen::Index(k))) - b.position(a.vertices[k])).norm() /
-                atlas.diameter);
+    for (int w : overlapVertices(mesh, a, b))
+      t.residual =
+          std::max(t.residual, (t.motion(a.position(w)) - b.position(w)).norm() / atlas.diameter);
     atlas.maxTransitionResidual = std::max(atlas.maxTransitionResidual, t.residual);
   }
   double translationError = 0.0, quarterTurnError = 0.0;

@@ -52,7 +52,8 @@ struct Transition {
   int from = -1;
   int to = -1;
   RigidMotion motion;
-  /// max |motion(x_from) - x_to| over the shared vertices, relative to the atlas diameter.
+  /// max |motion(x_from) - x_to| over the vertices of the faces both charts contain (the two
+  /// faces of the edge joining their vertices), relative to the atlas diameter.
   double residual = 0.0;
 };
 

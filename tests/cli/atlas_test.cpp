@@ -1,6 +1,8 @@
 // `mspline atlas` on real meshes: transition kinds, residuals, the written file read back.
 #include <catch2/catch.hpp>
 
+#include <cmath>
+
 #include <nlohmann/json.hpp>
 
 #include "support/test_data.h"
@@ -43,6 +45,23 @@ TEST_CASE("atlas: bunny00 with quantized cones turns by quarter turns", "[cli][s
   CHECK(report["max_cocycle_residual"].get<double>() <= 1e-10);
   CHECK(report["uncovered_faces"] == 0);
   CHECK(report["cones"].size() == 14);
+}
+
+TEST_CASE("atlas: eight with quantized cones and handles turns by quarter turns", "[cli]") {
+  const std::string dir = mspline::test::scratchDirectory("cli_atlas_eight");
+  auto report = atlas(realMeshPath("eight.off") + " --quantize --check -o " + dir + "/e.json");
+  CHECK(report["transition_kind"] == "rotation90");
+  CHECK(report["max_transition_residual"].get<double>() <= 1e-10);
+  CHECK(report["max_cocycle_residual"].get<double>() <= 1e-10);
+  CHECK(report["uncovered_faces"] == 0);
+  CHECK(report["check"]["identical"] == true);
+  const auto& holonomy = report["flatten"]["holonomy"];
+  CHECK(holonomy["loops"] == 4);
+  CHECK(holonomy["converged"] == true);
+  for (const auto& rotation : holonomy["target_rotations"]) {
+    const double quarters = rotation.get<double>() / 1.5707963267948966;
+    CHECK(std::abs(quarters - std::round(quarters)) <= 1e-12);
+  }
 }
 
 TEST_CASE("atlas: bad input", "[cli]") {
