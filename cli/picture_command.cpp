@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include "cli/command.h"
 #include "cli/flatten_pipeline.h"
+#include "io/atlas_file.h"
 #include "io/load_mesh.h"
 #include "io/raster_image.h"
 #include "io/surface_pictures.h"
+#include "structure/affine_atlas.h"
 #include "structure/errors.h"
 #include "structure/topology.h"
 
@@ -26,10 +29,10 @@ struct PictureArguments {
   FlattenSettings settings;
 };
 
-bool isPngPath(const std::string& path) {
+std::string lowerExtension(const std::string& path) {
   std::string extension = std::filesystem::path(path).extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(), ::tolower);
-  return extension == ".png";
+  return extension;
 }
 
 }  // namespace
@@ -38,10 +41,13 @@ void addPictureCommand(CLI::App& app, Command& command) {
   auto arguments = std::make_shared<PictureArguments>();
   auto* sub = app.add_subcommand(
       "picture",
-      "Flattens the surface (as flatten does) and draws a PNG: the cut layout with a "
-      "checkerboard (layout), the surface with a checkerboard (checker) or parallel lines (lines) "
-      "in its flat coordinates, or 3 x 3 copies of a flat torus' universal cover (cover).");
-  sub->add_option("MESH", arguments->mesh, "Mesh file (must pass validation)")->required();
+      "Flattens the surface (as flatten does), or takes the flat metric of an atlas file written "
+      "by `mspline atlas`, and draws a PNG: the cut layout with a checkerboard (layout), the "
+      "surface with a checkerboard (checker) or parallel lines (lines) in its flat coordinates, "
+      "or 3 x 3 copies of a flat torus' universal cover (cover).");
+  sub->add_option("INPUT", arguments->mesh,
+                  "Mesh file (must pass validation), or an atlas file (.json)")
+      ->required();
   sub->add_option("--kind", arguments->kind, "layout, checker, lines or cover")
       ->required()
       ->check(CLI::IsMember({"layout", "checker", "lines", "cover"}));
@@ -59,15 +65,31 @@ void addPictureCommand(CLI::App& app, Command& command) {
     command.name = "picture";
     command.run = [&command, arguments] {
       const PictureArguments& a = *arguments;
-      if (!isPngPath(a.output)) throw InputError(a.output + ": picture writes PNG files (.png)");
+      if (lowerExtension(a.output) != ".png")
+        throw InputError(a.output + ": picture writes PNG files (.png)");
       auto progress = [&](const std::string& line) {
         if (!a.settings.quiet) std::cerr << "picture: " << line << std::endl;
       };
       Stopwatch clock;
       Json stages;
-      io::LoadedMesh loaded = io::loadMesh(a.mesh);
-      const TriMesh& mesh = *loaded.mesh;
-      stages["load"] = clock.lap();
+      Json report;
+      // The surface and its flat metric: from the atlas file, or flattened here.
+      std::optional<io::LoadedMesh> loaded;
+      std::optional<io::LoadedAtlas> atlas;
+      std::optional<Flattening> flat;
+      const TriMesh* surface = nullptr;
+      Eigen::VectorXd lengths;
+      if (lowerExtension(a.mesh) == ".json") {
+        atlas = io::readAtlas(a.mesh);
+        surface = &atlas->mesh;
+        lengths = atlasEdgeLengths(*surface, atlas->atlas);
+        stages["load"] = clock.lap();
+      } else {
+        loaded = io::loadMesh(a.mesh);
+        stages["load"] = clock.lap();
+        progress(std::to_string(loaded->mesh->n_faces()) + " faces loaded; flattening");
+      }
+      const TriMesh& mesh = atlas ? atlas->mesh : *loaded->mesh;
       if (a.kind == "cover") {
         const TopologyReport topology = analyzeTopology(mesh);
         if (!topology.closed || topology.genus != 1)
@@ -75,23 +97,23 @@ void addPictureCommand(CLI::App& app, Command& command) {
                            "genus " + std::to_string(topology.genus) + " and " +
                            std::to_string(topology.boundaryLoops) + " boundary loops)");
       }
-      progress(std::to_string(mesh.n_faces()) + " faces loaded; flattening");
-
-      Json report;
-      const Flattening flat =
-          flattenMesh(mesh, a.mesh, a.settings, command, report, stages, progress);
-      if (a.kind == "cover" && !flat.layout.hasPeriods)
-        throw InputError(a.mesh + ": --kind cover needs a flat torus, but the flattening has " +
-                         std::to_string(flat.layout.cones.size()) + " cones (use --cones none)");
+      if (!atlas) {
+        flat = flattenMesh(mesh, a.mesh, a.settings, command, report, stages, progress);
+        surface = flat->surface;
+      }
+      const FlatLayout layout = flat ? flat->layout : layoutFlatMetric(*surface, lengths);
+      if (a.kind == "cover" && !layout.hasPeriods)
+        throw InputError(a.mesh + ": --kind cover needs a flat torus, but the metric has " +
+                         std::to_string(layout.cones.size()) + " cones" +
+                         (atlas ? "" : " (use --cones none)"));
       clock.lap();
-      const TriMesh& surface = *flat.surface;
       const io::RasterImage image =
-          a.kind == "layout" ? io::renderLayout(surface, flat.layout, a.options)
+          a.kind == "layout" ? io::renderLayout(*surface, layout, a.options)
           : a.kind == "checker"
-              ? io::renderSurface(surface, flat.layout, a.options, io::SurfaceTexture::Checker)
+              ? io::renderSurface(*surface, layout, a.options, io::SurfaceTexture::Checker)
           : a.kind == "lines"
-              ? io::renderSurface(surface, flat.layout, a.options, io::SurfaceTexture::Lines)
-              : io::renderCover(surface, flat.layout, a.options);
+              ? io::renderSurface(*surface, layout, a.options, io::SurfaceTexture::Lines)
+              : io::renderCover(*surface, layout, a.options);
       stages["render"] = clock.lap();
       io::writePng(a.output, image);
       stages["write"] = clock.lap();
@@ -110,7 +132,7 @@ void addPictureCommand(CLI::App& app, Command& command) {
         printJson(result);
       } else {
         std::cout << "wrote " << a.output << " (" << a.kind << ", " << image.width << " x "
-                  << image.height << ", " << flat.cones.size() << " cones, " << total << " s)"
+                  << image.height << ", " << layout.cones.size() << " cones, " << total << " s)"
                   << std::endl;
       }
       return int(kExitSuccess);

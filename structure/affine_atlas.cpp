@@ -288,6 +288,30 @@ void measureAtlas(const TriMesh& mesh, AffineAtlas& atlas, const AffineAtlasOpti
   }
 }
 
+Eigen::VectorXd atlasEdgeLengths(const TriMesh& mesh, const AffineAtlas& atlas) {
+  if (atlas.chartOfVertex.size() != mesh.n_vertices())
+    throw InputError("atlas: " + std::to_string(atlas.chartOfVertex.size()) +
+                     " vertices, the mesh has " + std::to_string(mesh.n_vertices()));
+  Eigen::VectorXd lengths(Eigen::Index(mesh.n_edges()));
+  for (const auto e : mesh.edges()) {
+    const auto h = mesh.halfedge_handle(e, 0);
+    const int a = mesh.from_vertex_handle(h).idx(), b = mesh.to_vertex_handle(h).idx();
+    std::vector<int> holders = {a, b};
+    for (int side = 0; side < 2; ++side) {
+      const auto g = mesh.halfedge_handle(e, side);
+      if (!mesh.is_boundary(g))
+        holders.push_back(mesh.to_vertex_handle(mesh.next_halfedge_handle(g)).idx());
+    }
+    int chart = -1;
+    for (int w : holders)
+      if (chart < 0) chart = atlas.chartOfVertex[std::size_t(w)];
+    if (chart < 0) throw InputError("atlas: edge " + std::to_string(e.idx()) + " lies in no chart");
+    const Chart& c = atlas.charts[std::size_t(chart)];
+    lengths[e.idx()] = (c.position(a) - c.position(b)).norm();
+  }
+  return lengths;
+}
+
 std::vector<ChartPoint> chartsContaining(const TriMesh& mesh, const AffineAtlas& atlas, int face,
                                          const Eigen::Vector3d& barycentric) {
   if (face < 0 || face >= int(mesh.n_faces()))

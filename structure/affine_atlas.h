@@ -119,6 +119,10 @@ AffineAtlas buildAffineAtlas(const TriMesh& mesh, const Eigen::VectorXd& flatLen
 /// coverage), e.g. after reading it back. InputError when it does not fit the mesh.
 void measureAtlas(const TriMesh& mesh, AffineAtlas& atlas, const AffineAtlasOptions& options = {});
 
+/// The flat metric the atlas carries: every edge's length in a chart containing it (a chart of an
+/// end, or of a vertex opposite it). InputError when an edge lies in no chart.
+Eigen::VectorXd atlasEdgeLengths(const TriMesh& mesh, const AffineAtlas& atlas);
+
 /// A point of a face (barycentric coordinates) in one chart.
 struct ChartPoint {
   int chart = -1;

@@ -48,6 +48,35 @@ TEST_CASE("picture: a checkerboard PNG of the knot", "[cli]") {
   CHECK(bigEndian(head, 20) == 480);
 }
 
+TEST_CASE("picture: from an atlas file, without flattening again", "[cli]") {
+  const std::string dir = mspline::test::scratchDirectory("cli_picture_atlas");
+  const std::string atlas = dir + "/knot1.json";
+  REQUIRE(
+      runCommand(cliPath() + " atlas -q " + realMeshPath("knot1.off") + " --cones none -o " + atlas)
+          .exitCode == 0);
+  const std::string out = dir + "/cover.png";
+  auto result = runCommand(cliPath() + " picture --json -q " + atlas +
+                           " --kind cover --width 300 --height 200 -o " + out);
+  INFO("stderr: " << result.err);
+  REQUIRE(result.exitCode == 0);
+  const auto report = nlohmann::json::parse(result.out);
+  CHECK(report["kind"] == "cover");
+  CHECK(report["file"] == atlas);
+  CHECK(!report.contains("converged"));  // nothing was flattened
+  std::ifstream file(out, std::ios::binary);
+  std::string head(24, '\0');
+  REQUIRE(file.read(head.data(), head.size()));
+  CHECK(bigEndian(head, 16) == 300);
+  CHECK(bigEndian(head, 20) == 200);
+
+  std::ofstream(dir + "/broken.json") << "{\"format\": \"something else\"}";
+  auto broken = runCommand(cliPath() + " picture -q " + dir + "/broken.json --kind checker -o " +
+                           dir + "/broken.png");
+  CHECK(broken.exitCode == 2);
+  CHECK_THAT(broken.err, Catch::Contains("broken.json"));
+  CHECK(!fs::exists(dir + "/broken.png"));
+}
+
 TEST_CASE("picture: bad requests exit 2 naming the file, writing nothing", "[cli]") {
   const std::string dir = mspline::test::scratchDirectory("cli_picture_bad");
   auto cover = runCommand(cliPath() + " picture -q " + realMeshPath("bunny00.off") +

@@ -69,6 +69,9 @@ void checkAtlas(const std::string& name, const Flat& flat, const AffineAtlas& at
   CHECK(atlas.maxCocycleResidual <= 1e-10);
   CHECK(atlas.uncoveredFaces == 0);
   CHECK(atlas.charts.size() + atlas.cones.size() == flat.surface.n_vertices());
+  // The charts carry the metric: its lengths come back from them.
+  const Eigen::VectorXd lengths = structure::atlasEdgeLengths(flat.surface, atlas);
+  CHECK(((lengths - flat.lengths).array() / flat.lengths.array()).abs().maxCoeff() <= 1e-9);
 
   // Random surface points: each lies in at least one chart, and point location in every chart
   // containing it finds it again.
