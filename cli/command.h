@@ -35,6 +35,9 @@ void addFlattenCommand(CLI::App& app, Command& command);
 void addVoronoiCommand(CLI::App& app, Command& command);
 void addAtlasCommand(CLI::App& app, Command& command);
 void addPictureCommand(CLI::App& app, Command& command);
+void addSplineCommand(CLI::App& app, Command& command);
+void addCheckCommand(CLI::App& app, Command& command);
+void addExportCommand(CLI::App& app, Command& command);
 
 /// Prints one JSON object on stdout.
 void printJson(const Json& object);

@@ -60,6 +60,9 @@ int main(int argc, char** argv) {
   addVoronoiCommand(app, command);
   addAtlasCommand(app, command);
   addPictureCommand(app, command);
+  addSplineCommand(app, command);
+  addCheckCommand(app, command);
+  addExportCommand(app, command);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -153,6 +154,62 @@ TriMesh cylinder(int around, int along) {
     for (int i = 0; i < around; ++i)
       addQuad(mesh, at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
   return mesh;
+}
+
+TriMesh cubeSurface(int m) {
+  TriMesh mesh;
+  std::map<std::array<int, 3>, TriMesh::VertexHandle> vertices;
+  // Integer lattice points 0..2m per axis, corners first so that they are vertices 0 .. 7.
+  const auto vertex = [&](std::array<int, 3> p) {
+    auto [it, inserted] = vertices.try_emplace(p);
+    if (inserted)
+      it->second = mesh.add_vertex(TriMesh::Point(p[0] / double(m) - 1.0, p[1] / double(m) - 1.0,
+                                                  p[2] / double(m) - 1.0));
+    return it->second;
+  };
+  for (int corner = 0; corner < 8; ++corner)
+    vertex({corner & 1 ? 2 * m : 0, corner & 2 ? 2 * m : 0, corner & 4 ? 2 * m : 0});
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side) {
+      const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+      for (int i = 0; i < 2 * m; ++i)
+        for (int j = 0; j < 2 * m; ++j) {
+          std::array<std::array<int, 3>, 4> quad;
+          for (int k = 0; k < 4; ++k) {
+            quad[std::size_t(k)][std::size_t(axis)] = side * 2 * m;
+            quad[std::size_t(k)][std::size_t(u)] = i + (k == 1 || k == 2);
+            quad[std::size_t(k)][std::size_t(w)] = j + (k >= 2);
+          }
+          auto a = vertex(quad[0]), b = vertex(quad[1]), c = vertex(quad[2]), d = vertex(quad[3]);
+          // Outward orientation: (u, w) is counter-clockwise seen from +axis.
+          if (side == 0) std::swap(b, d);
+          mesh.add_face(a, b, c);
+          mesh.add_face(a, c, d);
+        }
+    }
+  return mesh;
+}
+
+spline::SplineDomain flatTorusDomain(int n, double shear) {
+  const auto vertex = [n](int i, int j) { return ((i + n) % n) + n * ((j + n) % n); };
+  const auto lower = [n](int i, int j) { return 2 * (((i + n) % n) + n * ((j + n) % n)); };
+  const auto upper = [&](int i, int j) { return lower(i, j) + 1; };
+  const double bottom = 1.0, left = std::hypot(shear, 1.0), diagonal = std::hypot(1.0 + shear, 1.0);
+  spline::SplineDomain domain;
+  domain.cone.assign(std::size_t(n * n), 0);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      // Lower: (i, j) -> (i+1, j) -> (i+1, j+1); upper: (i, j) -> (i+1, j+1) -> (i, j+1).
+      domain.faces.push_back({vertex(i, j), vertex(i + 1, j), vertex(i + 1, j + 1)});
+      domain.sideLengths.push_back({bottom, left, diagonal});
+      domain.neighbour.push_back({upper(i, j - 1), upper(i + 1, j), upper(i, j)});
+      domain.neighbourSide.push_back({1, 2, 0});
+      domain.faces.push_back({vertex(i, j), vertex(i + 1, j + 1), vertex(i, j + 1)});
+      domain.sideLengths.push_back({diagonal, bottom, left});
+      domain.neighbour.push_back({lower(i, j), lower(i, j + 1), lower(i - 1, j)});
+      domain.neighbourSide.push_back({2, 0, 1});
+    }
+  return domain;
 }
 
 // 2 * major * minor faces.

@@ -3,6 +3,7 @@
 // whose topology is stated in its comment; `resolution` scales the number of faces.
 #include <vector>
 
+#include "spline/spline_domain.h"
 #include "structure/curvature_target.h"
 #include "structure/polygon_soup.h"
 #include "structure/tri_mesh.h"
@@ -29,6 +30,16 @@ TriMesh pairOfPants(int resolution);
 /// The convex polygon with these corners (counter-clockwise), as a fan of triangles from corner
 /// 0: a disk.
 TriMesh polygonFan(const std::vector<OpenMesh::Vec3d>& corners);
+
+/// Surface of the cube [-1, 1]^3, each square face a 2m x 2m grid of cells split into triangles:
+/// genus 0, closed; its edge lengths are a flat metric with 8 cones of curvature pi/2 (the
+/// corners, vertices 0 .. 7).
+TriMesh cubeSurface(int m);
+
+/// Flat torus as a spline domain: the plane modulo n x n cells spanned by (1, 0) and (shear, 1),
+/// each cell split into two triangles along its diagonal from (0, 0) to (1 + shear, 1); no cones.
+/// Face 2 (i + n j) is the lower triangle of cell (i, j), face 2 (i + n j) + 1 the upper one.
+spline::SplineDomain flatTorusDomain(int n, double shear = 0.0);
 
 }  // namespace mspline::test
 

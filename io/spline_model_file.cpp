@@ -1,0 +1,366 @@
+#include "io/spline_model_file.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <string_view>
+
+#include "io/atomic_file.h"
+#include "io/byte_order.h"
+#include "io/output_buffer.h"
+#include "structure/errors.h"
+
+namespace mspline::io {
+
+namespace {
+
+using spline::SplineModel;
+using structure::InputError;
+
+constexpr std::string_view kMagic("MSPLINE\x1A", 8);
+constexpr std::uint32_t kVersion = 1;
+// The model indexes with int.
+constexpr std::uint64_t kMaxCount = std::numeric_limits<std::int32_t>::max();
+
+// Bytes per item of the sections, as documented in the header.
+constexpr std::uint64_t kVertexBytes = 3 * 8;
+constexpr std::uint64_t kFaceBytes = 3 * 4;
+constexpr std::uint64_t kLocationBytes = 4 + 3 * 8;
+constexpr std::uint64_t kDomainVertexBytes = 1 + 4;
+constexpr std::uint64_t kDomainFaceBytes = 3 * 4 + 3 * 8 + 3 * 4 + 3;
+constexpr std::uint64_t kPointBytes = 2 * 8;
+
+[[noreturn]] void fail(const std::string& problem) {
+  throw InputError(problem);
+}
+
+std::string str(std::uint64_t n) {
+  return std::to_string(n);
+}
+
+template <class Name>
+void requireFinite(double value, const Name& name) {
+  if (!std::isfinite(value)) fail(name() + " is not finite (" + std::to_string(value) + ")");
+}
+
+template <class Name>
+void requireIndex(int index, std::size_t count, const Name& name, const char* range) {
+  if (index < 0 || std::size_t(index) >= count)
+    fail(name() + " " + std::to_string(index) + ", out of range (" + str(count) + " " + range +
+         ")");
+}
+
+void requireCount(std::size_t count, const char* what) {
+  if (count > kMaxCount)
+    fail(str(count) + " " + what + " are more than the format holds (2^31 - 1)");
+}
+
+// Everything the reader checks, so that the writer never writes a file the reader rejects.
+// Throws InputError naming the first problem.
+void checkModel(const SplineModel& model) {
+  if (model.kind != spline::SplineKind::TriangularBSpline)
+    fail("unknown spline kind " + std::to_string(int(model.kind)));
+  const spline::SplineDomain& domain = model.domain;
+  const std::size_t vertices = std::size_t(model.surfaceVertices.rows());
+  const std::size_t faces = domain.faces.size();
+  requireCount(vertices, "surface vertices");
+  requireCount(model.surfaceFaces.size(), "surface faces");
+  requireCount(domain.cone.size(), "domain vertices");
+  requireCount(faces, "domain faces");
+  if (model.surfaceVertexLocations.size() != vertices)
+    fail(str(model.surfaceVertexLocations.size()) + " surface vertex locations for " +
+         str(vertices) + " surface vertices");
+  if (model.domainVertexSource.size() != domain.cone.size())
+    fail(str(model.domainVertexSource.size()) + " source surface vertices for " +
+         str(domain.cone.size()) + " domain vertices");
+  if (domain.sideLengths.size() != faces || domain.neighbour.size() != faces ||
+      domain.neighbourSide.size() != faces)
+    fail("the domain's per-face arrays have different sizes");
+  if (model.degree < 1) fail("degree " + std::to_string(model.degree) + " is below 1");
+  const std::size_t knotsPerCorner = std::size_t(model.degree) + 1;
+  if (model.knots.size() != faces)
+    fail("knots for " + str(model.knots.size()) + " faces, but the domain has " + str(faces));
+  for (std::size_t f = 0; f < faces; ++f)
+    for (std::size_t c = 0; c < 3; ++c)
+      if (model.knots[f][c].size() != knotsPerCorner)
+        fail("corner " + str(c) + " of domain face " + str(f) + " has " +
+             str(model.knots[f][c].size()) + " knots, degree " + std::to_string(model.degree) +
+             " needs " + str(knotsPerCorner));
+  const std::size_t perFace = knotsPerCorner * (knotsPerCorner + 1) / 2;
+  const std::size_t rows = std::size_t(model.controlPoints.rows());
+  if (rows % perFace != 0 || rows / perFace != faces)
+    fail(str(rows) + " control points, but " + str(faces) + " domain faces of degree " +
+         std::to_string(model.degree) + " have " + str(perFace) + " basis functions each");
+  requireCount(rows, "control points");
+  requireCount(std::size_t(model.controlPoints.cols()), "control point coordinates");
+
+  for (std::size_t v = 0; v < vertices; ++v) {
+    for (int k = 0; k < 3; ++k)
+      requireFinite(model.surfaceVertices(Eigen::Index(v), k),
+                    [&] { return "coordinate " + str(k) + " of surface vertex " + str(v); });
+    const spline::DomainPoint& location = model.surfaceVertexLocations[v];
+    requireIndex(
+        location.face, faces, [&] { return "surface vertex " + str(v) + " lies in face"; },
+        "domain faces");
+    for (int k = 0; k < 3; ++k)
+      requireFinite(location.barycentric(k), [&] {
+        return "barycentric coordinate " + str(k) + " of surface vertex " + str(v);
+      });
+  }
+  for (std::size_t f = 0; f < model.surfaceFaces.size(); ++f)
+    for (int v : model.surfaceFaces[f])
+      requireIndex(
+          v, vertices, [&] { return "surface face " + str(f) + " has vertex"; },
+          "surface vertices");
+  for (std::size_t d = 0; d < domain.cone.size(); ++d) {
+    const auto flag = static_cast<unsigned char>(domain.cone[d]);
+    if (flag > 1)
+      fail("domain vertex " + str(d) + " has cone flag " + str(flag) + " (0 or 1 expected)");
+    requireIndex(
+        model.domainVertexSource[d], vertices,
+        [&] { return "domain vertex " + str(d) + " is surface vertex"; }, "surface vertices");
+  }
+  for (std::size_t f = 0; f < faces; ++f)
+    for (std::size_t k = 0; k < 3; ++k)
+      requireFinite(domain.sideLengths[f][k],
+                    [&] { return "side length " + str(k) + " of domain face " + str(f); });
+  for (std::size_t f = 0; f < faces; ++f)
+    for (std::size_t c = 0; c < 3; ++c)
+      for (std::size_t b = 0; b < knotsPerCorner; ++b)
+        for (int k = 0; k < 2; ++k)
+          requireFinite(model.knots[f][c][b](k), [&] {
+            return "coordinate " + str(k) + " of knot " + str(b) + " of corner " + str(c) +
+                   " of domain face " + str(f);
+          });
+  for (Eigen::Index r = 0; r < model.controlPoints.rows(); ++r)
+    for (Eigen::Index k = 0; k < model.controlPoints.cols(); ++k)
+      requireFinite(model.controlPoints(r, k),
+                    [&] { return "coordinate " + str(k) + " of control point " + str(r); });
+  spline::validateDomain(domain);
+}
+
+std::string readFileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw structure::IoError("cannot open '" + path + "': " + std::strerror(errno));
+  std::string data;
+  char chunk[1 << 16];
+  while (in.read(chunk, sizeof chunk) || in.gcount() > 0)
+    data.append(chunk, std::size_t(in.gcount()));
+  // A directory opens but cannot be read.
+  if (in.bad()) throw structure::IoError("cannot read '" + path + "': " + std::strerror(errno));
+  return data;
+}
+
+// A cursor over the file's bytes that knows which section it is in, for the messages.
+class ModelReader {
+ public:
+  ModelReader(std::string_view data, const std::string& path) : data_(data), path_(path) {}
+
+  [[noreturn]] void fail(const std::string& problem) const {
+    throw InputError(path_ + ": " + problem);
+  }
+  void section(const char* name) { section_ = name; }
+  std::uint64_t remaining() const { return data_.size() - offset_; }
+
+  std::string_view bytes(std::size_t count) {
+    if (remaining() < count)
+      fail("truncated: the file ends inside the " + section_ + " section (after " +
+           str(data_.size()) + " bytes)");
+    const std::string_view out = data_.substr(offset_, count);
+    offset_ += count;
+    return out;
+  }
+  template <typename T>
+  T value() {
+    return detail::decode<T>(bytes(sizeof(T)).data(), false);
+  }
+  /// Checks, before anything is allocated for them, that `items` items of `itemBytes` bytes
+  /// each fit in the rest of the file: a corrupt count must not allocate gigabytes.
+  void requireFit(std::uint64_t items, std::uint64_t itemBytes, const std::string& what) const {
+    if (itemBytes != 0 && items > remaining() / itemBytes)
+      fail("truncated or corrupt: the " + section_ + " section needs " + what + " of " +
+           str(itemBytes) + " bytes each, but only " + str(remaining()) + " bytes remain");
+  }
+  /// A u32 count of items of `itemBytes` bytes each, all of which must fit in the file.
+  int count(std::uint64_t itemBytes, const char* noun) {
+    const std::uint64_t n = value<std::uint32_t>();
+    if (n > kMaxCount)
+      fail("the " + section_ + " section declares " + str(n) + " " + noun +
+           ", more than the format holds (2^31 - 1)");
+    requireFit(n, itemBytes, str(n) + " " + noun);
+    return int(n);
+  }
+
+ private:
+  std::string_view data_;
+  const std::string& path_;
+  std::size_t offset_ = 0;
+  std::string section_;
+};
+
+}  // namespace
+
+void writeSplineModel(const std::string& path, const SplineModel& model) {
+  try {
+    checkModel(model);
+  } catch (const InputError& error) {
+    throw InputError("cannot write '" + path + "': " + error.what());
+  }
+  writeFileAtomically(path, [&](std::ostream& out) {
+    detail::OutputBuffer buffer(out);
+    const auto u8 = [&](int value) { buffer.littleEndian(std::uint8_t(value)); };
+    const auto u32 = [&](std::size_t value) { buffer.littleEndian(std::uint32_t(value)); };
+    const auto i32 = [&](int value) { buffer.littleEndian(std::int32_t(value)); };
+    const auto f64 = [&](double value) { buffer.littleEndian(value); };
+    buffer.text(kMagic);
+    u32(kVersion);
+    u32(std::size_t(model.kind));
+
+    const auto& vertices = model.surfaceVertices;
+    u32(std::size_t(vertices.rows()));
+    for (Eigen::Index v = 0; v < vertices.rows(); ++v)
+      for (int k = 0; k < 3; ++k) f64(vertices(v, k));
+    u32(model.surfaceFaces.size());
+    for (const auto& face : model.surfaceFaces)
+      for (int v : face) i32(v);
+    for (const auto& location : model.surfaceVertexLocations) {
+      i32(location.face);
+      for (int k = 0; k < 3; ++k) f64(location.barycentric(k));
+    }
+
+    const auto& domain = model.domain;
+    u32(domain.cone.size());
+    for (std::size_t d = 0; d < domain.cone.size(); ++d) {
+      u8(domain.cone[d]);
+      i32(model.domainVertexSource[d]);
+    }
+    u32(domain.faces.size());
+    for (std::size_t f = 0; f < domain.faces.size(); ++f) {
+      for (int corner : domain.faces[f]) i32(corner);
+      for (double length : domain.sideLengths[f]) f64(length);
+      for (int neighbour : domain.neighbour[f]) i32(neighbour);
+      for (int side : domain.neighbourSide[f]) u8(side);
+    }
+
+    i32(model.degree);
+    for (const auto& face : model.knots)
+      for (const auto& corner : face)
+        for (const auto& knot : corner) {
+          f64(knot.x());
+          f64(knot.y());
+        }
+    const auto& control = model.controlPoints;
+    u32(std::size_t(control.rows()));
+    u32(std::size_t(control.cols()));
+    for (Eigen::Index r = 0; r < control.rows(); ++r)
+      for (Eigen::Index k = 0; k < control.cols(); ++k) f64(control(r, k));
+    buffer.flush();
+  });
+}
+
+SplineModel readSplineModel(const std::string& path) {
+  const std::string data = readFileBytes(path);
+  ModelReader in(data, path);
+  SplineModel model;
+
+  in.section("header");
+  if (data.empty()) in.fail("the file is empty, not an .msp spline model");
+  const std::string_view start = std::string_view(data).substr(0, kMagic.size());
+  if (start != kMagic.substr(0, start.size()))
+    in.fail("not an .msp spline model (it does not start with the MSPLINE magic)");
+  in.bytes(kMagic.size());
+  const std::uint32_t version = in.value<std::uint32_t>();
+  if (version != kVersion)
+    in.fail("unsupported format version " + str(version) + " (this mspline reads version " +
+            str(kVersion) + ")");
+  const std::uint32_t kind = in.value<std::uint32_t>();
+  if (kind != std::uint32_t(spline::SplineKind::TriangularBSpline))
+    in.fail("unsupported spline kind " + str(kind) + " (version " + str(kVersion) +
+            " knows kind 1, triangular B-spline)");
+  model.kind = spline::SplineKind(kind);
+
+  in.section("surface vertices");
+  const int vertices = in.count(kVertexBytes, "surface vertices");
+  model.surfaceVertices.resize(vertices, 3);
+  for (int v = 0; v < vertices; ++v)
+    for (int k = 0; k < 3; ++k) model.surfaceVertices(v, k) = in.value<double>();
+
+  in.section("surface faces");
+  model.surfaceFaces.resize(std::size_t(in.count(kFaceBytes, "surface faces")));
+  for (auto& face : model.surfaceFaces)
+    for (int& v : face) v = in.value<std::int32_t>();
+
+  in.section("surface vertex locations");
+  in.requireFit(vertices, kLocationBytes, str(vertices) + " locations");
+  model.surfaceVertexLocations.resize(std::size_t(vertices));
+  for (auto& location : model.surfaceVertexLocations) {
+    location.face = in.value<std::int32_t>();
+    for (int k = 0; k < 3; ++k) location.barycentric(k) = in.value<double>();
+  }
+
+  in.section("domain vertices");
+  spline::SplineDomain& domain = model.domain;
+  const auto domainVertices = std::size_t(in.count(kDomainVertexBytes, "domain vertices"));
+  domain.cone.resize(domainVertices);
+  model.domainVertexSource.resize(domainVertices);
+  for (std::size_t d = 0; d < domainVertices; ++d) {
+    domain.cone[d] = static_cast<char>(in.value<std::uint8_t>());
+    model.domainVertexSource[d] = in.value<std::int32_t>();
+  }
+
+  in.section("domain faces");
+  const auto faces = std::size_t(in.count(kDomainFaceBytes, "domain faces"));
+  domain.faces.resize(faces);
+  domain.sideLengths.resize(faces);
+  domain.neighbour.resize(faces);
+  domain.neighbourSide.resize(faces);
+  for (std::size_t f = 0; f < faces; ++f) {
+    for (int& corner : domain.faces[f]) corner = in.value<std::int32_t>();
+    for (double& length : domain.sideLengths[f]) length = in.value<double>();
+    for (int& neighbour : domain.neighbour[f]) neighbour = in.value<std::int32_t>();
+    for (int& side : domain.neighbourSide[f]) side = in.value<std::uint8_t>();
+  }
+
+  in.section("degree");
+  model.degree = in.value<std::int32_t>();
+  if (model.degree < 1) in.fail("degree " + std::to_string(model.degree) + " is below 1");
+
+  in.section("knots");
+  const auto knotsPerCorner = std::size_t(model.degree) + 1;
+  in.requireFit(3 * faces, knotsPerCorner * kPointBytes, str(3 * faces) + " corners");
+  model.knots.resize(faces);
+  for (auto& face : model.knots)
+    for (auto& corner : face) {
+      corner.resize(knotsPerCorner);
+      for (auto& knot : corner) {
+        knot.x() = in.value<double>();
+        knot.y() = in.value<double>();
+      }
+    }
+
+  in.section("control points");
+  const std::uint64_t rows = in.value<std::uint32_t>();
+  const std::uint64_t columns = in.value<std::uint32_t>();
+  if (rows > kMaxCount || columns > kMaxCount)
+    in.fail("the control points section declares " + str(rows) + " x " + str(columns) +
+            " coordinates, more than the format holds (2^31 - 1 each)");
+  in.requireFit(rows, columns * 8, str(rows) + " control points");
+  model.controlPoints.resize(Eigen::Index(rows), Eigen::Index(columns));
+  for (Eigen::Index r = 0; r < model.controlPoints.rows(); ++r)
+    for (Eigen::Index k = 0; k < model.controlPoints.cols(); ++k)
+      model.controlPoints(r, k) = in.value<double>();
+
+  if (in.remaining() != 0)
+    in.fail("the file goes on for " + str(in.remaining()) + " bytes after the last section");
+  try {
+    checkModel(model);
+  } catch (const InputError& error) {
+    in.fail(error.what());
+  }
+  return model;
+}
+
+}  // namespace mspline::io

@@ -1,0 +1,54 @@
+#pragma once
+// The spline model file (.msp): a spline::SplineModel (spline/spline_model.h) in binary, so that
+// a fitted spline can be saved and loaded without recomputing anything. Doubles are stored bit
+// for bit, so save -> load -> save gives the same bytes and a loaded spline evaluates to the
+// same bits.
+//
+// Types: u8 and u32 unsigned, i32 two's complement, f64 IEEE 754 binary64; all little-endian.
+// Counts are u32 and at most 2^31 - 1 (the model indexes with int). Sections follow one another
+// without padding, in this order:
+//
+//   header (16 bytes)
+//     u8[8]  magic: "MSPLINE" then 0x1A (a control byte: a text file never starts like this)
+//     u32    format version: 1
+//     u32    kind: 1 = triangular B-spline (spline::SplineKind)
+//   common part (every kind)
+//     surface vertices         u32 V; V times f64 x, y, z
+//     surface faces            u32 F; F times i32 a, b, c (surface vertices, counter-clockwise)
+//     surface vertex locations V times i32 domain face, f64 b0, b1, b2 (barycentric)
+//     domain vertices          u32 N; N times u8 cone (0 or 1), i32 source surface vertex
+//     domain faces             u32 M; M times i32 corner[3], f64 side length[3],
+//                              i32 neighbour[3] (domain faces), u8 neighbour side[3] (0 to 2)
+//   kind 1 part
+//     degree                   i32 n (at least 1)
+//     knots                    M faces times 3 corners times n + 1 points f64 x, y
+//     control points           u32 rows (M (n + 1)(n + 2) / 2), u32 columns, then
+//                              rows times columns f64, row-major
+//
+// Nothing may follow the last section. Field meanings are those of SplineModel and SplineDomain
+// (side k of a domain face joins corners k and k + 1; knots in the face's home frame).
+//
+// Extending the format: the header and the common part are the same for every kind, and the
+// kind-specific part comes last. A new kind (issue 6: T-splines) takes the next kind number and
+// defines its own part after the common part; readers reject kinds they do not know, naming the
+// number. Any change to the header, the common part or an existing kind's part takes the next
+// format version; a reader reads every version up to its own and rejects newer ones, naming both.
+// Since nothing may follow the last section, an old reader never silently drops data.
+#include <string>
+
+#include "spline/spline_model.h"
+
+namespace mspline::io {
+
+/// Writes atomically. InputError when the model is one the reader would reject (sizes that
+/// disagree, an index out of range, a non-finite number, an inconsistent domain), and then no
+/// file is written; IoError when the file cannot be written.
+void writeSplineModel(const std::string& path, const spline::SplineModel& model);
+
+/// Reads and checks a spline model file: InputError naming the file and the problem when it is
+/// not a valid one (not an .msp file, an unsupported version or kind, truncated in a section,
+/// counts that do not match, an index out of range, a non-finite number, a domain that
+/// spline::validateDomain rejects, bytes after the end); IoError when it cannot be read.
+spline::SplineModel readSplineModel(const std::string& path);
+
+}  // namespace mspline::io

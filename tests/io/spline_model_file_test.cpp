@@ -1,0 +1,321 @@
+#include "io/spline_model_file.h"
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <random>
+#include <string>
+
+#include "io/byte_order.h"
+#include "spline/dms_spline.h"
+#include "structure/errors.h"
+#include "support/test_data.h"
+#include "support/test_meshes.h"
+
+using namespace mspline;
+
+namespace {
+
+namespace fs = std::filesystem;
+using spline::SplineModel;
+
+constexpr double kDenormMin = std::numeric_limits<double>::denorm_min();
+constexpr int kCells = 4;  // flatTorusDomain(4): 16 vertices, 32 faces
+constexpr int kDegree = 2;
+
+bool sameBits(double a, double b) {
+  return std::memcmp(&a, &b, sizeof(double)) == 0;
+}
+
+bool sameBits(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+  if (a.rows() != b.rows() || a.cols() != b.cols()) return false;
+  for (Eigen::Index r = 0; r < a.rows(); ++r)
+    for (Eigen::Index c = 0; c < a.cols(); ++c)
+      if (!sameBits(a(r, c), b(r, c))) return false;
+  return true;
+}
+
+std::vector<Eigen::Vector2d> cornersOf(const spline::SplineDomain& domain, int face) {
+  const auto corners = spline::canonicalCorners(domain, face);
+  return {corners.begin(), corners.end()};
+}
+
+// A torus sampled at the vertices of flatTorusDomain(4, 0.2), with the domain's triangles, DMS
+// knot clouds in every face's frame, random control points, and doubles that only survive a
+// bit-exact format (negative zero, subnormals, 0.1, 1e300) scattered through every section.
+SplineModel awkwardModel() {
+  SplineModel model;
+  model.domain = test::flatTorusDomain(kCells, 0.2);
+  const int vertices = kCells * kCells;
+  model.surfaceVertices.resize(vertices, 3);
+  for (int v = 0; v < vertices; ++v) {
+    const double turn = 2 * std::acos(-1.0) / kCells;
+    const double a = turn * (v % kCells), b = turn * (v / kCells);
+    model.surfaceVertices.row(v) << (1 + 0.4 * std::cos(b)) * std::cos(a),
+        (1 + 0.4 * std::cos(b)) * std::sin(a), 0.4 * std::sin(b);
+  }
+  model.surfaceVertices(0, 0) = -0.0;
+  model.surfaceVertices(1, 1) = kDenormMin;
+  model.surfaceVertices(2, 2) = 0.1;
+  model.surfaceVertices(3, 0) = 1e300;
+  model.surfaceFaces = model.domain.faces;
+  // Vertex v is corner 0 of face 2 v (the lower triangle of its cell).
+  for (int v = 0; v < vertices; ++v)
+    model.surfaceVertexLocations.push_back({2 * v, Eigen::Vector3d(1.0, 0.0, 0.0)});
+  model.surfaceVertexLocations[1].barycentric << 1.0, -0.0, -kDenormMin;
+  for (int d = 0; d < vertices; ++d) model.domainVertexSource.push_back(vertices - 1 - d);
+  model.domain.cone[5] = 1;
+
+  model.degree = kDegree;
+  for (int f = 0; f < model.domain.faceCount(); ++f) {
+    spline::KnotCloudOptions options;
+    options.seed = std::uint64_t(f) + 1;
+    const auto clouds =
+        spline::generateKnotClouds(cornersOf(model.domain, f), {{0, 1, 2}}, kDegree, options);
+    model.knots.push_back({clouds[0], clouds[1], clouds[2]});
+  }
+  model.knots[31][1][2] << -0.0, kDenormMin;
+  model.knots[31][2][1] << 0.1, 1e300;
+
+  const int rows = model.domain.faceCount() * (kDegree + 1) * (kDegree + 2) / 2;
+  model.controlPoints.resize(rows, 3);
+  std::mt19937_64 random(7);
+  std::uniform_real_distribution<double> coordinate(-1.0, 1.0);
+  for (Eigen::Index r = 0; r < rows; ++r)
+    for (Eigen::Index c = 0; c < 3; ++c) model.controlPoints(r, c) = coordinate(random);
+  model.controlPoints(0, 0) = -0.0;
+  model.controlPoints(1, 1) = kDenormMin;
+  model.controlPoints(2, 2) = 0.1;
+  model.controlPoints(3, 0) = 1e300;
+  model.controlPoints(4, 1) = -1e-310;
+  model.controlPoints(5, 2) = std::numeric_limits<double>::max();
+  return model;
+}
+
+// Byte offsets of the sections of awkwardModel()'s file, from the layout documented in
+// io/spline_model_file.h.
+struct Layout {
+  static constexpr std::size_t vertices = kCells * kCells, faces = 2 * vertices;
+  static constexpr std::size_t surfaceVertices = 16;
+  static constexpr std::size_t surfaceFaces = surfaceVertices + 4 + 24 * vertices;
+  static constexpr std::size_t locations = surfaceFaces + 4 + 12 * faces;
+  static constexpr std::size_t domainVertices = locations + 28 * vertices;
+  static constexpr std::size_t domainFaces = domainVertices + 4 + 5 * vertices;
+  static constexpr std::size_t degree = domainFaces + 4 + 51 * faces;
+  static constexpr std::size_t knots = degree + 4;
+  static constexpr std::size_t controlPoints = knots + faces * 3 * (kDegree + 1) * 16;
+  static constexpr std::size_t rows = faces * (kDegree + 1) * (kDegree + 2) / 2;
+  static constexpr std::size_t size = controlPoints + 8 + rows * 3 * 8;
+};
+
+template <typename T>
+std::string patched(std::string bytes, std::size_t offset, T value) {
+  std::string encoded;
+  io::detail::appendLittleEndian(encoded, value);
+  return bytes.replace(offset, encoded.size(), encoded);
+}
+
+// A fresh file each time: rewriting a file truncated to zero makes ext4 flush it on close
+// (auto_da_alloc), which costs milliseconds per file.
+void writeBytes(const std::string& path, const std::string& bytes) {
+  fs::remove(path);
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+
+// The message of the InputError that reading `path` throws ("" when it throws none).
+std::string inputError(const std::string& path) {
+  try {
+    io::readSplineModel(path);
+  } catch (const structure::InputError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("spline_model_file: save, load and save again is lossless", "[io]") {
+  const std::string dir = test::scratchDirectory("io_spline_model_file");
+  const SplineModel model = awkwardModel();
+  io::writeSplineModel(dir + "/a.msp", model);
+  const std::string bytes = test::fileText(dir + "/a.msp");
+  CHECK(bytes.size() == Layout::size);
+  CHECK(bytes.compare(0, 8, "MSPLINE\x1A") == 0);
+
+  const SplineModel back = io::readSplineModel(dir + "/a.msp");
+  CHECK(back.kind == model.kind);
+  CHECK(back.surfaceVertices == model.surfaceVertices);
+  CHECK(sameBits(back.surfaceVertices, model.surfaceVertices));
+  CHECK(std::signbit(back.surfaceVertices(0, 0)));
+  CHECK(back.surfaceFaces == model.surfaceFaces);
+  REQUIRE(back.surfaceVertexLocations.size() == model.surfaceVertexLocations.size());
+  for (std::size_t v = 0; v < model.surfaceVertexLocations.size(); ++v) {
+    CHECK(back.surfaceVertexLocations[v].face == model.surfaceVertexLocations[v].face);
+    CHECK(sameBits(back.surfaceVertexLocations[v].barycentric,
+                   model.surfaceVertexLocations[v].barycentric));
+  }
+  CHECK(back.domain.faces == model.domain.faces);
+  CHECK(back.domain.sideLengths == model.domain.sideLengths);
+  CHECK(back.domain.neighbour == model.domain.neighbour);
+  CHECK(back.domain.neighbourSide == model.domain.neighbourSide);
+  CHECK(back.domain.cone == model.domain.cone);
+  CHECK(back.domainVertexSource == model.domainVertexSource);
+  CHECK(back.degree == model.degree);
+  REQUIRE(back.knots.size() == model.knots.size());
+  for (std::size_t f = 0; f < model.knots.size(); ++f)
+    for (std::size_t c = 0; c < 3; ++c) {
+      REQUIRE(back.knots[f][c].size() == model.knots[f][c].size());
+      for (std::size_t b = 0; b < model.knots[f][c].size(); ++b)
+        CHECK(sameBits(back.knots[f][c][b], model.knots[f][c][b]));
+    }
+  CHECK(std::signbit(back.knots[31][1][2].x()));
+  CHECK(back.knots[31][1][2].y() == kDenormMin);
+  CHECK(back.controlPoints == model.controlPoints);
+  CHECK(sameBits(back.controlPoints, model.controlPoints));
+  CHECK(std::signbit(back.controlPoints(0, 0)));
+
+  io::writeSplineModel(dir + "/b.msp", back);
+  CHECK(test::fileText(dir + "/b.msp") == bytes);
+
+  // The spline of face 1 in its frame evaluates to the same bits from the loaded model.
+  const auto space = [](const SplineModel& m) {
+    return spline::DmsSpace(cornersOf(m.domain, 1), {{0, 1, 2}},
+                            spline::KnotClouds(m.knots[1].begin(), m.knots[1].end()));
+  };
+  const int perFace = (kDegree + 1) * (kDegree + 2) / 2;
+  const auto corners = cornersOf(model.domain, 1);
+  for (const Eigen::Vector3d& b :
+       {Eigen::Vector3d(1.0 / 3, 1.0 / 3, 1.0 / 3), Eigen::Vector3d(0.7, 0.2, 0.1),
+        Eigen::Vector3d(0.05, 0.15, 0.8)}) {
+    const Eigen::Vector2d x = b(0) * corners[0] + b(1) * corners[1] + b(2) * corners[2];
+    const auto before =
+        space(model).evaluate(model.controlPoints.middleRows(perFace, perFace), 0, x, 2);
+    const auto after =
+        space(back).evaluate(back.controlPoints.middleRows(perFace, perFace), 0, x, 2);
+    CHECK(sameBits(after.position, before.position));
+    CHECK(sameBits(after.du, before.du));
+    CHECK(sameBits(after.dv, before.dv));
+    CHECK(sameBits(after.duu, before.duu));
+    CHECK(sameBits(after.duv, before.duv));
+    CHECK(sameBits(after.dvv, before.dvv));
+  }
+}
+
+TEST_CASE("spline_model_file: every truncation is an input error naming the file", "[io]") {
+  const std::string dir = test::scratchDirectory("io_spline_model_file_cut");
+  io::writeSplineModel(dir + "/good.msp", awkwardModel());
+  const std::string bytes = test::fileText(dir + "/good.msp");
+  REQUIRE(bytes.size() == Layout::size);
+  const std::string path = dir + "/cut.msp";
+  for (std::size_t length = 0; length < bytes.size(); ++length) {
+    writeBytes(path, bytes.substr(0, length));
+    const std::string message = inputError(path);
+    INFO("cut at " << length << ": " << message);
+    CHECK(message.find(path) != std::string::npos);
+    CHECK(message.find(length == 0 ? "empty" : "truncated") != std::string::npos);
+  }
+  // Cuts name the section they fall in.
+  writeBytes(path, bytes.substr(0, Layout::domainFaces + 100));
+  CHECK(inputError(path).find("domain faces section") != std::string::npos);
+  writeBytes(path, bytes.substr(0, Layout::size - 1));
+  CHECK(inputError(path).find("control points section") != std::string::npos);
+}
+
+TEST_CASE("spline_model_file: corrupt files are input errors naming the file and the problem",
+          "[io]") {
+  const std::string dir = test::scratchDirectory("io_spline_model_file_bad");
+  io::writeSplineModel(dir + "/good.msp", awkwardModel());
+  const std::string good = test::fileText(dir + "/good.msp");
+  REQUIRE(good.size() == Layout::size);
+  const auto expect = [&](const std::string& name, const std::string& bytes,
+                          const std::string& words) {
+    const std::string path = dir + "/" + name;
+    writeBytes(path, bytes);
+    const std::string message = inputError(path);
+    INFO(name << ": " << message);
+    CHECK(message.find(path) != std::string::npos);
+    CHECK(message.find(words) != std::string::npos);
+  };
+  const auto nan = std::numeric_limits<double>::quiet_NaN();
+  const auto huge = std::uint32_t(std::numeric_limits<std::int32_t>::max());
+
+  expect("empty.msp", "", "the file is empty");
+  expect("text.msp", "# not a model\n", "not an .msp spline model");
+  expect("magic.msp", patched(good, 7, std::uint8_t('\n')), "not an .msp spline model");
+  expect("version.msp", patched(good, 8, std::uint32_t(2)), "unsupported format version 2");
+  expect("kind.msp", patched(good, 12, std::uint32_t(2)), "unsupported spline kind 2");
+  // Counts that do not fit in the file are refused before anything is allocated for them.
+  expect("vertices.msp", patched(good, Layout::surfaceVertices, huge),
+         "needs 2147483647 surface vertices");
+  expect("toomany.msp", patched(good, Layout::domainFaces, std::uint32_t(0xffffffff)),
+         "more than the format holds");
+  expect("degree.msp", patched(good, Layout::degree, std::int32_t(1 << 30)),
+         "truncated or corrupt: the knots section needs 96 corners");
+  expect("rows.msp",
+         patched(patched(good, Layout::controlPoints, huge), Layout::controlPoints + 4, huge),
+         "truncated or corrupt: the control points section");
+  expect("negative.msp", patched(good, Layout::degree, std::int32_t(-1)), "degree -1 is below 1");
+  // Counts that fit but do not match: a face's control points missing.
+  const std::size_t perFace = (kDegree + 1) * (kDegree + 2) / 2;
+  expect("short.msp",
+         patched(good, Layout::controlPoints, std::uint32_t(Layout::rows - perFace))
+             .substr(0, Layout::size - perFace * 3 * 8),
+         std::to_string(Layout::rows - perFace) + " control points, but 32 domain faces");
+  expect("trailing.msp", good + "x", "1 bytes after the last section");
+  expect("index.msp", patched(good, Layout::surfaceFaces + 4 + 4, std::int32_t(99)),
+         "surface face 0 has vertex 99, out of range (16 surface vertices)");
+  expect("location.msp", patched(good, Layout::locations, std::int32_t(-1)),
+         "surface vertex 0 lies in face -1, out of range");
+  expect("source.msp", patched(good, Layout::domainVertices + 4 + 1, std::int32_t(16)),
+         "domain vertex 0 is surface vertex 16, out of range");
+  expect("cone.msp", patched(good, Layout::domainVertices + 4, std::uint8_t(2)), "cone flag 2");
+  expect("nan.msp", patched(good, Layout::surfaceVertices + 4 + 8, nan),
+         "coordinate 1 of surface vertex 0 is not finite");
+  expect("knot.msp", patched(good, Layout::knots, std::numeric_limits<double>::infinity()),
+         "coordinate 0 of knot 0 of corner 0 of domain face 0 is not finite");
+  expect("control.msp", patched(good, Layout::size - 8, -nan),
+         "coordinate 2 of control point " + std::to_string(Layout::rows - 1) + " is not finite");
+  // The domain is checked by spline::validateDomain: a neighbour out of range, a side whose two
+  // faces disagree on its length.
+  const std::size_t neighbourOfFace0 = Layout::domainFaces + 4 + 12 + 24;
+  expect("neighbour.msp", patched(good, neighbourOfFace0, std::int32_t(1000)),
+         "the neighbour across side 0 of domain face 0 does not point back");
+  expect("length.msp", patched(good, Layout::domainFaces + 4 + 12, 1.5),
+         "side 0 of domain face 0 has two lengths");
+  expect("side.msp", patched(good, neighbourOfFace0 + 12, std::uint8_t(3)), "does not point back");
+}
+
+TEST_CASE("spline_model_file: unreadable and unwritable paths, models the format refuses", "[io]") {
+  const std::string dir = test::scratchDirectory("io_spline_model_file_paths");
+  CHECK_THROWS_AS(io::readSplineModel(dir + "/missing.msp"), structure::IoError);
+  CHECK_THROWS_AS(io::readSplineModel(dir), structure::IoError);
+  CHECK_THROWS_WITH(io::readSplineModel(dir + "/missing.msp"),
+                    Catch::Contains(dir + "/missing.msp"));
+
+  const SplineModel model = awkwardModel();
+  CHECK_THROWS_AS(io::writeSplineModel(dir + "/no/such/dir/a.msp", model), structure::IoError);
+  CHECK_FALSE(fs::exists(dir + "/no"));
+
+  // A model the reader would refuse is not written, and an existing file stays as it was.
+  const std::string path = dir + "/a.msp";
+  io::writeSplineModel(path, model);
+  const std::string before = test::fileText(path);
+  SplineModel broken = model;
+  broken.controlPoints(7, 1) = std::numeric_limits<double>::quiet_NaN();
+  CHECK_THROWS_WITH(io::writeSplineModel(path, broken),
+                    Catch::Contains("cannot write '" + path + "'") &&
+                        Catch::Contains("coordinate 1 of control point 7 is not finite"));
+  broken = model;
+  broken.knots.pop_back();
+  CHECK_THROWS_WITH(io::writeSplineModel(dir + "/b.msp", broken),
+                    Catch::Contains("knots for 31 faces, but the domain has 32"));
+  broken = model;
+  broken.surfaceVertexLocations.pop_back();
+  CHECK_THROWS_AS(io::writeSplineModel(dir + "/b.msp", broken), structure::InputError);
+  CHECK(test::fileText(path) == before);
+  CHECK_FALSE(fs::exists(dir + "/b.msp"));
+  CHECK(std::distance(fs::directory_iterator(dir), fs::directory_iterator()) == 1);
+}

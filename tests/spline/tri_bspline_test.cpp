@@ -1,0 +1,164 @@
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+
+#include "spline/tri_bspline.h"
+#include "structure/errors.h"
+#include "structure/vertex_scaling_energy.h"
+#include "support/test_meshes.h"
+
+using namespace mspline;
+using spline::DomainPoint;
+using spline::SplineDomain;
+using spline::TriBSplineSpace;
+
+namespace {
+
+TriBSplineSpace makeSpace(const SplineDomain& domain, int degree, std::uint64_t seed = 1) {
+  spline::KnotCloudOptions options;
+  options.seed = seed;
+  return TriBSplineSpace(
+      domain, spline::placeKnotClouds(domain, spline::buildHomeCharts(domain), degree, options));
+}
+
+DomainPoint randomPoint(const SplineDomain& domain, std::mt19937& random) {
+  std::uniform_int_distribution<int> face(0, domain.faceCount() - 1);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  Eigen::Vector3d b(unit(random), unit(random), unit(random));
+  return {face(random), b / b.sum()};
+}
+
+// The same point of side `side` of face f (parameter t from corner side to corner side+1), seen
+// from f and from the face across.
+std::pair<DomainPoint, DomainPoint> sidePoint(const SplineDomain& domain, int f, int side,
+                                              double t) {
+  DomainPoint here{f, Eigen::Vector3d::Zero()};
+  here.barycentric[side] = 1.0 - t;
+  here.barycentric[(side + 1) % 3] = t;
+  const int g = domain.neighbour[std::size_t(f)][std::size_t(side)];
+  const int gs = domain.neighbourSide[std::size_t(f)][std::size_t(side)];
+  DomainPoint there{g, Eigen::Vector3d::Zero()};
+  there.barycentric[gs] = t;
+  there.barycentric[(gs + 1) % 3] = 1.0 - t;
+  return {here, there};
+}
+
+struct Figures {
+  double unity = 0.0;     // max |sum of normalized basis - 1|
+  double rawUnity = 0.0;  // max |denominator - 1| over points with no cone nearby
+  double minDenominator = 1e300;
+  double chartDiscrepancy = 0.0;
+  // Across sides: position, and first derivatives relative to their size, both times the
+  // denominator (rounding is amplified by its inverse); the smallest denominator there.
+  double jump = 0.0;
+  double slopeJump = 0.0;
+  double minSideDenominator = 1e300;
+};
+
+// Every face whose contributors have no cone corner: there the DMS identities hold exactly.
+bool awayFromCones(const TriBSplineSpace& space, int face) {
+  for (int k : space.chartsHolding(face))
+    for (int v : space.domain().faces[std::size_t(k)])
+      if (space.domain().cone[std::size_t(v)]) return false;
+  return true;
+}
+
+Figures measure(const TriBSplineSpace& space, int samples) {
+  const SplineDomain& domain = space.domain();
+  std::mt19937 random(11);
+  std::normal_distribution<double> gauss;
+  Eigen::MatrixXd control(space.numBasis(), 3);
+  for (Eigen::Index i = 0; i < control.size(); ++i) control.data()[i] = gauss(random);
+  Figures figures;
+  spline::BasisValues basis;
+  for (int s = 0; s < samples; ++s) {
+    const DomainPoint p = randomPoint(domain, random);
+    double denominator = 0.0;
+    space.basisAt(p, basis, 0, &denominator);
+    double sum = 0.0;
+    for (double v : basis.value) sum += v;
+    figures.unity = std::max(figures.unity, std::abs(sum - 1.0));
+    figures.minDenominator = std::min(figures.minDenominator, denominator);
+    if (awayFromCones(space, p.face))
+      figures.rawUnity = std::max(figures.rawUnity, std::abs(denominator - 1.0));
+    const Eigen::VectorXd value = space.evaluate(control, p, 0).position;
+    for (int chart = 0; chart < int(space.chartsHolding(p.face).size()); ++chart)
+      for (auto route :
+           {TriBSplineSpace::ChartRoute::MovePoint, TriBSplineSpace::ChartRoute::MoveKnots})
+        figures.chartDiscrepancy =
+            std::max(figures.chartDiscrepancy,
+                     (space.evaluateInChart(control, p, chart, route) - value).norm());
+  }
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int f = 0; f < domain.faceCount(); ++f)
+    for (int side = 0; side < 3; ++side) {
+      const auto [here, there] = sidePoint(domain, f, side, unit(random));
+      const auto a = space.evaluate(control, here, 1);
+      const auto b = space.evaluate(control, there, 1);
+      // Derivatives in f's frame from those in g's frame: y = R x + t, so d/dx = R^T d/dy.
+      const auto& chart = space.charts()[std::size_t(there.face)];
+      const double angle = chart.placement[std::size_t(chart.find(f))].angle;
+      const double c = std::cos(angle), s = std::sin(angle);
+      const Eigen::VectorXd du = c * b.du + s * b.dv, dv = -s * b.du + c * b.dv;
+      const double scale = 1.0 + a.du.norm() + a.dv.norm();
+      // Rounding, divided by the denominator where it is small (sides at cones, near the cone).
+      double denominator = 0.0;
+      space.basisAt(here, basis, 0, &denominator);
+      figures.minSideDenominator = std::min(figures.minSideDenominator, denominator);
+      figures.jump = std::max(figures.jump, (a.position - b.position).norm() * denominator);
+      figures.slopeJump = std::max({figures.slopeJump, (a.du - du).norm() / scale * denominator,
+                                    (a.dv - dv).norm() / scale * denominator});
+    }
+  return figures;
+}
+
+}  // namespace
+
+TEST_CASE("tri_bspline: a flat torus is a partition of unity in every chart", "[spline]") {
+  for (int degree : {2, 3}) {
+    const TriBSplineSpace space = makeSpace(test::flatTorusDomain(6, 0.2), degree);
+    CHECK(space.numBasis() == 72 * (degree + 1) * (degree + 2) / 2);
+    const Figures figures = measure(space, 300);
+    INFO("degree " << degree);
+    CHECK(figures.rawUnity <= 1e-13);
+    CHECK(figures.unity <= 1e-13);
+    CHECK(figures.chartDiscrepancy <= 1e-12);
+    CHECK(figures.jump <= 1e-11);
+    CHECK(figures.slopeJump <= 1e-9);
+  }
+}
+
+TEST_CASE("tri_bspline: a cube's cones are closed up by the rational normalization", "[spline]") {
+  const auto mesh = test::cubeSurface(2);
+  const SplineDomain domain = spline::domainFromMesh(mesh, structure::edgeLengths(mesh));
+  int cones = 0;
+  for (char c : domain.cone) cones += c;
+  REQUIRE(cones == 8);
+  const TriBSplineSpace space = makeSpace(domain, 3);
+  const Figures figures = measure(space, 300);
+  WARN("cube: min denominator " << figures.minDenominator << ", raw unity away from cones "
+                                << figures.rawUnity << ", jumps " << figures.jump << ", "
+                                << figures.slopeJump << ", min denominator on sides "
+                                << figures.minSideDenominator);
+  CHECK(figures.minSideDenominator > 0.0);
+  CHECK(figures.minDenominator > 0.05);
+  CHECK(figures.rawUnity <= 1e-13);
+  CHECK(figures.unity <= 1e-13);
+  CHECK(figures.chartDiscrepancy <= 1e-12);
+  CHECK(figures.jump <= 1e-11);
+  CHECK(figures.slopeJump <= 1e-9);
+}
+
+TEST_CASE("tri_bspline: knots that do not fit the domain are refused", "[spline]") {
+  const SplineDomain domain = test::flatTorusDomain(4);
+  auto knots = spline::placeKnotClouds(domain, spline::buildHomeCharts(domain), 3);
+  auto missing = knots;
+  missing[3][1].pop_back();
+  CHECK_THROWS_AS(TriBSplineSpace(domain, missing), structure::InputError);
+  auto moved = knots;
+  moved[2][0][0] += Eigen::Vector2d(0.1, 0.0);
+  CHECK_THROWS_WITH(TriBSplineSpace(domain, moved), Catch::Contains("is not the corner"));
+  knots.pop_back();
+  CHECK_THROWS_AS(TriBSplineSpace(domain, knots), structure::InputError);
+}
