@@ -2,6 +2,7 @@
 // (as flatten computes it) is coarsened into the domain triangulation; the basis lives in its
 // charts, and the control points are fitted to the mesh's vertices.
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 
 #include "cli/command.h"
@@ -121,8 +122,34 @@ void addSplineCommand(CLI::App& app, Command& command) {
       }
       for (const auto& location : coarse.fineVertices)
         model.surfaceVertexLocations.push_back({location.face, location.barycentric});
-      const spline::ControlFitResult fit =
-          spline::fitControlPoints(space, model.surfaceVertexLocations, model.surfaceVertices);
+      // Samples: the vertices, and on a coarse mesh points inside its faces too, so that there
+      // are three samples per control point and every basis function has some under it.
+      std::vector<spline::DomainPoint> sites = model.surfaceVertexLocations;
+      std::vector<Eigen::RowVector3d> targets;
+      for (Eigen::Index v = 0; v < model.surfaceVertices.rows(); ++v)
+        targets.push_back(model.surfaceVertices.row(v));
+      const int perTriangle =
+          std::max(0, int(std::ceil((3.0 * space.numBasis() - double(surface.n_vertices())) /
+                                    double(surface.n_faces()))));
+      const int steps = int(std::ceil((std::sqrt(8.0 * perTriangle + 1.0) - 1.0) / 2.0)) + 2;
+      for (int f = 0; perTriangle > 0 && f < int(surface.n_faces()); ++f) {
+        const auto& corners = model.surfaceFaces[std::size_t(f)];
+        // The interior points of a barycentric grid with `steps` intervals per side.
+        for (int i = 1; i < steps; ++i)
+          for (int j = 1; i + j < steps; ++j) {
+            const Eigen::Vector3d b(double(steps - i - j) / steps, double(i) / steps,
+                                    double(j) / steps);
+            const auto location = locateOnCoarse(surface, coarse, f, b);
+            sites.push_back({location.face, location.barycentric});
+            targets.push_back(b[0] * model.surfaceVertices.row(corners[0]) +
+                              b[1] * model.surfaceVertices.row(corners[1]) +
+                              b[2] * model.surfaceVertices.row(corners[2]));
+          }
+      }
+      Eigen::MatrixXd targetMatrix(Eigen::Index(targets.size()), 3);
+      for (std::size_t k = 0; k < targets.size(); ++k)
+        targetMatrix.row(Eigen::Index(k)) = targets[k];
+      const spline::ControlFitResult fit = spline::fitControlPoints(space, sites, targetMatrix);
       model.controlPoints = fit.controlPoints;
       stages["fit"] = clock.lap();
       io::writeSplineModel(a.output, model);
@@ -150,6 +177,8 @@ void addSplineCommand(CLI::App& app, Command& command) {
           {"fit_rms_error", fit.rmsError / diagonal},
           {"fit_max_error", fit.maxError / diagonal},
           {"basis_without_samples", fit.basisWithoutSamples},
+          {"fit_samples", sites.size()},
+          {"sites_at_cones", fit.sitesAtCones},
           {"flatten",
            {{"converged", flat["converged"]},
             {"max_curvature_error", flat["max_curvature_error"]},

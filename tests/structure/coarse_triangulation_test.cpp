@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <random>
+#include <limits>
 #include <string>
 
 #include <Eigen/Dense>
@@ -239,7 +239,7 @@ void checkCoarse(const std::string& name, const Flat& flat, const CoarseTriangul
     sameFace = std::max(sameFace, std::abs(d - length) / length);
     ++sameFaceEdges;
   }
-  CHECK(sameFaceEdges > 0);
+  if (coarse.removedVertices > 0) CHECK(sameFaceEdges > 0);
   CHECK(sameFace <= trackingTolerance);
 
   // Random points of fine faces, and points of the fine faces around every cone (close to it and
