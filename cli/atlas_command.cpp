@@ -65,9 +65,9 @@ void addAtlasCommand(CLI::App& app, Command& command) {
       clock.lap();
       progress("building the atlas");
       const AffineAtlas atlas =
-          buildAffineAtlas(*flattening.surface, flattening.flatLengths, flattening.layout);
+          buildAffineAtlas(flattening.surface(), flattening.flatLengths, flattening.layout);
       stages["atlas"] = clock.lap();
-      io::writeAtlas(a.output, *flattening.surface, atlas);
+      io::writeAtlas(a.output, flattening.surface(), atlas);
       stages["write"] = clock.lap();
 
       Json report{{"file", a.mesh}, {"output", a.output}};
@@ -86,7 +86,7 @@ void addAtlasCommand(CLI::App& app, Command& command) {
         const io::LoadedAtlas back = io::readAtlas(a.output);
         bool identical = back.atlas.charts.size() == atlas.charts.size() &&
                          back.atlas.transitions.size() == atlas.transitions.size() &&
-                         back.mesh.n_faces() == flattening.surface->n_faces();
+                         back.mesh.n_faces() == flattening.surface().n_faces();
         for (std::size_t c = 0; identical && c < atlas.charts.size(); ++c)
           identical = back.atlas.charts[c].vertices == atlas.charts[c].vertices &&
                       back.atlas.charts[c].positions == atlas.charts[c].positions;

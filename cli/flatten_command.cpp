@@ -61,7 +61,7 @@ void addFlattenCommand(CLI::App& app, Command& command) {
       Json report;
       const Flattening flat =
           flattenMesh(mesh, a.mesh, a.settings, command, report, stages, progress);
-      const TriMesh& surface = *flat.surface;
+      const TriMesh& surface = flat.surface();
       const FlatLayout& layout = flat.layout;
       clock.lap();
       PolygonSoup soup = toSoup(surface, a.mesh);

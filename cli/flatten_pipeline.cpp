@@ -228,7 +228,7 @@ Flattening flattenMesh(const TriMesh& mesh, const std::string& file,
                       " (nothing written)");
   }
 
-  out.surface = out.overlay ? &out.overlay->mesh : &mesh;
+  out.input = &mesh;
   out.flatLengths = out.overlay ? out.overlay->edgeLengths : flow.edgeLengths;
   // Quantized cones make the rotations around cones quarter turns; on a closed surface with
   // handles the rotations along the handles must be made so too.
@@ -236,7 +236,7 @@ Flattening flattenMesh(const TriMesh& mesh, const std::string& file,
     progress("quantizing the rotation along " + std::to_string(2 * topology.genus) +
              " handle loops");
     const HolonomyQuantizationResult holonomy =
-        quantizeHolonomy(*out.surface, out.flatLengths, cones);
+        quantizeHolonomy(out.surface(), out.flatLengths, cones);
     stages["holonomy"] = clock.lap();
     report["holonomy"] = {{"loops", holonomy.loops.size()},
                           {"initial_rotations", asVector(holonomy.initialRotation)},
@@ -255,11 +255,11 @@ Flattening flattenMesh(const TriMesh& mesh, const std::string& file,
                "); seams across handles turn by arbitrary angles");
   }
   progress("laying out");
-  out.layout = layoutFlatMetric(*out.surface, out.flatLengths);
+  out.layout = layoutFlatMetric(out.surface(), out.flatLengths);
   stages["layout"] = clock.lap();
   const FlatLayout& layout = out.layout;
   report["flipped_triangles"] = layout.flippedTriangles;
-  report["area_distortion"] = areaDistortion(*out.surface, out.flatLengths, flow.u);
+  report["area_distortion"] = areaDistortion(out.surface(), out.flatLengths, flow.u);
   report["angle_distortion"] = {{"mean", layout.meanAngleDistortion},
                                 {"max", layout.maxAngleDistortion}};
   report["layout_edge_length_error"] = layout.maxEdgeLengthError;

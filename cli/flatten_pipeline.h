@@ -59,8 +59,12 @@ struct Flattening {
   structure::RicciResult flow;
   /// The common subdivision when intrinsic flips were needed (then it is the surface laid out).
   std::optional<structure::IntrinsicOverlay> overlay;
-  /// The surface laid out (the input or the overlay) and its flat edge lengths.
-  const structure::TriMesh* surface = nullptr;
+  /// The input mesh (owned by the caller).
+  const structure::TriMesh* input = nullptr;
+  /// The surface laid out: the overlay when there is one, else the input. (A function, not a
+  /// pointer kept in the struct, so that moving a Flattening cannot leave it dangling.)
+  const structure::TriMesh& surface() const { return overlay ? overlay->mesh : *input; }
+  /// Its flat edge lengths.
   Eigen::VectorXd flatLengths;
   structure::FlatLayout layout;
 };

@@ -99,7 +99,7 @@ void addPictureCommand(CLI::App& app, Command& command) {
       }
       if (!atlas) {
         flat = flattenMesh(mesh, a.mesh, a.settings, command, report, stages, progress);
-        surface = flat->surface;
+        surface = &flat->surface();
       }
       const FlatLayout layout = flat ? flat->layout : layoutFlatMetric(*surface, lengths);
       if (a.kind == "cover" && !layout.hasPeriods)

@@ -80,11 +80,12 @@ void addSplineCommand(CLI::App& app, Command& command) {
       const Flattening flattening =
           flattenMesh(mesh, a.mesh, a.settings, command, flat, stages, progress);
       clock.lap();
-      const TriMesh& surface = *flattening.surface;
+      const TriMesh& surface = flattening.surface();
 
       const int perFace = (a.degree + 1) * (a.degree + 2) / 2;
       // A closed surface of genus g has F = 2 V + 4 g - 4 faces.
       CoarseningOptions coarsening;
+      coarsening.separateCones = true;
       coarsening.targetVertices =
           std::max(4, int((a.control / perFace + 4 - 4 * topology.genus) / 2));
       progress("coarsening to " + std::to_string(coarsening.targetVertices) + " vertices");
@@ -172,6 +173,8 @@ void addSplineCommand(CLI::App& app, Command& command) {
           {"domain_faces", model.domain.faceCount()},
           {"cones", cones},
           {"unremoved_vertices", coarse.unremovedVertices.size()},
+          {"cone_separating_vertices", coarse.separatingVertices},
+          {"cone_sides", coarse.coneSides},
           {"tracking_error", coarse.maxTrackingError},
           {"domain_flatness", {{"before", polish.initialError}, {"after", polish.finalError}}},
           {"fit_rms_error", fit.rmsError / diagonal},

@@ -168,7 +168,7 @@ void addVoronoiCommand(CLI::App& app, Command& command) {
       progress(std::to_string(mesh.n_faces()) + " faces loaded; flattening without cones");
       const Flattening flat =
           flattenMesh(mesh, a.mesh, settings, command, flattenReport, stages, progress);
-      const TriMesh& surface = *flat.surface;
+      const TriMesh& surface = flat.surface();
       if (random)
         sites = randomSurfacePoints(surface, count, a.seed);
       else if (flat.overlay)

@@ -458,7 +458,8 @@ CoarseTriangulation Coarsening::result(const std::vector<int>& isCone) const {
 // Every cone, then farthest-point samples (Dijkstra on the flat edge lengths, seeded from the
 // cones or from vertex 0) until `target` vertices are kept.
 std::vector<char> sampleVertices(const TriMesh& surface, const Eigen::VectorXd& lengths,
-                                 const std::vector<int>& isCone, int target) {
+                                 const std::vector<int>& isCone, const std::vector<int>& extra,
+                                 int target) {
   const int n = int(surface.n_vertices());
   std::vector<char> kept(std::size_t(n), 0);
   std::vector<double> distance(std::size_t(n), std::numeric_limits<double>::infinity());
@@ -474,7 +475,7 @@ std::vector<char> sampleVertices(const TriMesh& surface, const Eigen::VectorXd& 
     near.push({0.0, v});
   };
   for (int v = 0; v < n; ++v)
-    if (isCone[v]) keep(v);
+    if (isCone[v] || std::find(extra.begin(), extra.end(), v) != extra.end()) keep(v);
   if (count == 0) keep(0);
   for (;;) {
     while (!near.empty()) {
@@ -565,17 +566,15 @@ void checkInput(const TriMesh& surface, const Eigen::VectorXd& flatLengths,
   }
 }
 
-}  // namespace
-
-CoarseTriangulation coarsenFlatMetric(const TriMesh& surface, const Eigen::VectorXd& flatLengths,
-                                      const CoarseningOptions& options) {
-  checkInput(surface, flatLengths, options);
+CoarseTriangulation coarsenKeeping(const TriMesh& surface, const Eigen::VectorXd& flatLengths,
+                                   const CoarseningOptions& options,
+                                   const std::vector<int>& extra) {
   const Eigen::VectorXd fineCurvature = vertexCurvatures(surface, flatLengths);
   const int n = int(surface.n_vertices());
   std::vector<int> isCone(std::size_t(n), 0);
   for (int v = 0; v < n; ++v) isCone[v] = std::abs(fineCurvature[v]) > options.coneTolerance;
   const std::vector<char> kept =
-      sampleVertices(surface, flatLengths, isCone, options.targetVertices);
+      sampleVertices(surface, flatLengths, isCone, extra, options.targetVertices);
 
   Coarsening coarsening(surface, flatLengths, options.delaunay);
   if (options.delaunay) coarsening.flipToDelaunay();
@@ -609,6 +608,63 @@ CoarseTriangulation coarsenFlatMetric(const TriMesh& surface, const Eigen::Vecto
                  trackingError(coarse, surface.from_vertex_handle(h).idx(),
                                surface.to_vertex_handle(h).idx(), flatLengths[e.idx()]));
   }
+  return coarse;
+}
+
+// Sides joining two cones, and for each the fine vertex nearest its midpoint (in one of the two
+// faces at it), or -1 when no fine vertex lies in them.
+std::vector<int> coneSideSeparators(const CoarseTriangulation& coarse, int& coneSides) {
+  std::vector<int> separators;
+  coneSides = 0;
+  std::vector<std::vector<int>> located(coarse.faces.size());
+  for (std::size_t v = 0; v < coarse.fineVertices.size(); ++v)
+    if (coarse.coarseVertex[v] < 0)
+      located[std::size_t(coarse.fineVertices[v].face)].push_back(int(v));
+  for (std::size_t f = 0; f < coarse.faces.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = coarse.faces[f][std::size_t(k)], b = coarse.faces[f][std::size_t((k + 1) % 3)];
+      if (!coarse.isCone[std::size_t(a)] || !coarse.isCone[std::size_t(b)]) continue;
+      const int g = coarse.neighbour[f][std::size_t(k)];
+      if (int(f) > g) continue;  // each side once
+      ++coneSides;
+      // Barycentric distance to the side's midpoint: good enough to pick a vertex near it.
+      int best = -1;
+      double bestDistance = std::numeric_limits<double>::infinity();
+      for (int face : {int(f), g}) {
+        const int side = face == int(f) ? k : coarse.neighbourSide[f][std::size_t(k)];
+        for (int v : located[std::size_t(face)]) {
+          Eigen::Vector3d midpoint = Eigen::Vector3d::Zero();
+          midpoint[side] = midpoint[(side + 1) % 3] = 0.5;
+          const double distance =
+              (coarse.fineVertices[std::size_t(v)].barycentric - midpoint).norm();
+          if (distance < bestDistance) {
+            bestDistance = distance;
+            best = v;
+          }
+        }
+      }
+      if (best >= 0) separators.push_back(best);
+    }
+  return separators;
+}
+
+}  // namespace
+
+CoarseTriangulation coarsenFlatMetric(const TriMesh& surface, const Eigen::VectorXd& flatLengths,
+                                      const CoarseningOptions& options) {
+  checkInput(surface, flatLengths, options);
+  std::vector<int> extra;
+  CoarseTriangulation coarse = coarsenKeeping(surface, flatLengths, options, extra);
+  for (int round = 0; options.separateCones && round < 4; ++round) {
+    const std::vector<int> separators = coneSideSeparators(coarse, coarse.coneSides);
+    if (separators.empty()) break;
+    extra.insert(extra.end(), separators.begin(), separators.end());
+    CoarseningOptions more = options;
+    more.targetVertices = options.targetVertices + int(extra.size());
+    coarse = coarsenKeeping(surface, flatLengths, more, extra);
+    coarse.separatingVertices = int(extra.size());
+  }
+  if (options.separateCones) coneSideSeparators(coarse, coarse.coneSides);
   return coarse;
 }
 

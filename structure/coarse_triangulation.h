@@ -46,6 +46,10 @@ struct CoarseningOptions {
   /// Seed of the random order in which vertices are removed (a random order keeps the faces of
   /// every intermediate triangulation of similar size).
   unsigned seed = 1;
+  /// Keep no side between two cones: where the result has one, the fine vertex nearest its
+  /// midpoint is kept too and the coarsening made again (a few rounds at most). Splines need it:
+  /// a side between two cones has knot clouds of neither cone across it.
+  bool separateCones = false;
 };
 
 /// A point of the coarse triangulation.
@@ -98,6 +102,9 @@ struct CoarseTriangulation {
   double maxCurvatureError = 0.0;
   /// Every vertex that was not kept has been removed (unremovedVertices is empty).
   bool complete = false;
+  /// With separateCones: vertices kept to separate cones, and sides still joining two cones.
+  int separatingVertices = 0;
+  int coneSides = 0;
 };
 
 /// Coarsens the closed surface `surface` with the flat metric `flatLengths` (by edge idx(); flat

@@ -77,6 +77,19 @@ TEST_CASE("picture: from an atlas file, without flattening again", "[cli]") {
   CHECK(!fs::exists(dir + "/broken.png"));
 }
 
+TEST_CASE("picture: a surface that needs intrinsic flips (its overlay is drawn)", "[cli]") {
+  // The laid-out surface is the overlay the flattening owns; it must survive being returned.
+  const std::string dir = mspline::test::scratchDirectory("cli_picture_flips");
+  auto result =
+      runCommand(cliPath() + " picture --json -q " + realMeshPath("eight.off") +
+                 " --quantize --kind checker --width 200 --height 200 -o " + dir + "/eight.png");
+  INFO("stderr: " << result.err);
+  REQUIRE(result.exitCode == 0);
+  const auto report = nlohmann::json::parse(result.out);
+  CHECK(report["flips"].get<int>() > 0);
+  CHECK(fs::exists(dir + "/eight.png"));
+}
+
 TEST_CASE("picture: bad requests exit 2 naming the file, writing nothing", "[cli]") {
   const std::string dir = mspline::test::scratchDirectory("cli_picture_bad");
   auto cover = runCommand(cliPath() + " picture -q " + realMeshPath("bunny00.off") +
