@@ -12,8 +12,7 @@
 #include "structure/flat_layout.h"
 #include "structure/holonomy_quantization.h"
 #include "structure/homotopy_basis.h"
-#include "structure/intrinsic_flattening.h"
-#include "structure/ricci_newton.h"
+#include "support/flat_metric.h"
 #include "support/test_data.h"
 #include "support/test_meshes.h"
 
@@ -26,7 +25,8 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// A flat metric as flatten computes it: the input triangulation, or the overlay after flips.
+// A flat metric as flatten computes it (the input triangulation, or the overlay after flips), laid
+// out.
 struct Flat {
   TriMesh surface;
   Eigen::VectorXd lengths;
@@ -34,20 +34,8 @@ struct Flat {
 };
 
 Flat flatten(const TriMesh& mesh, const std::vector<structure::Cone>& cones) {
-  const auto target = structure::flatTarget(mesh, cones);
-  structure::RicciNewtonOptions options;
-  options.tolerance = 1e-12 / (2 * kPi);
-  Flat flat;
-  const auto plain = structure::solveVertexScaling(mesh, target, options);
-  if (plain.converged) {
-    flat.surface = mesh;
-    flat.lengths = plain.edgeLengths;
-  } else {
-    auto flipped = structure::flattenWithFlips(mesh, target, options);
-    REQUIRE(flipped.solve.ricci.converged);
-    flat.surface = flipped.overlay.mesh;
-    flat.lengths = flipped.overlay.edgeLengths;
-  }
+  test::FlatMetric metric = test::flatMetric(mesh, cones);
+  Flat flat{std::move(metric.surface), std::move(metric.lengths), {}};
   flat.layout = structure::layoutFlatMetric(flat.surface, flat.lengths);
   REQUIRE(flat.layout.flippedTriangles == 0);
   return flat;

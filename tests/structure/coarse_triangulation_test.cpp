@@ -12,11 +12,10 @@
 #include "structure/cone_placement.h"
 #include "structure/curvature_target.h"
 #include "structure/errors.h"
-#include "structure/intrinsic_flattening.h"
-#include "structure/ricci_newton.h"
 #include "structure/surface_point.h"
 #include "structure/topology.h"
 #include "structure/vertex_scaling_energy.h"
+#include "support/flat_metric.h"
 #include "support/test_data.h"
 #include "support/test_meshes.h"
 
@@ -29,21 +28,10 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// A flat metric as flatten computes it: the input triangulation, or the overlay after flips.
-struct Flat {
-  TriMesh surface;
-  Eigen::VectorXd lengths;
-};
+using Flat = test::FlatMetric;
 
 Flat flatten(const TriMesh& mesh, const std::vector<structure::Cone>& cones) {
-  const auto target = structure::flatTarget(mesh, cones);
-  structure::RicciNewtonOptions options;
-  options.tolerance = 1e-12 / (2 * kPi);
-  const auto plain = structure::solveVertexScaling(mesh, target, options);
-  if (plain.converged) return {mesh, plain.edgeLengths};
-  const auto flipped = structure::flattenWithFlips(mesh, target, options);
-  REQUIRE(flipped.solve.ricci.converged);
-  return {flipped.overlay.mesh, flipped.overlay.edgeLengths};
+  return test::flatMetric(mesh, cones);
 }
 
 Flat flattenWithQuantizedCones(const TriMesh& mesh) {

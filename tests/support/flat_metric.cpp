@@ -1,0 +1,22 @@
+#include "support/flat_metric.h"
+
+#include <catch2/catch.hpp>
+
+#include "structure/intrinsic_flattening.h"
+#include "structure/ricci_newton.h"
+
+namespace mspline::test {
+
+FlatMetric flatMetric(const structure::TriMesh& mesh, const std::vector<structure::Cone>& cones) {
+  constexpr double kPi = 3.14159265358979323846;
+  const auto target = structure::flatTarget(mesh, cones);
+  structure::RicciNewtonOptions options;
+  options.tolerance = 1e-12 / (2 * kPi);
+  const auto plain = structure::solveVertexScaling(mesh, target, options);
+  if (plain.converged) return {mesh, plain.edgeLengths};
+  const auto flipped = structure::flattenWithFlips(mesh, target, options);
+  REQUIRE(flipped.solve.ricci.converged);
+  return {flipped.overlay.mesh, flipped.overlay.edgeLengths};
+}
+
+}  // namespace mspline::test

@@ -1,0 +1,24 @@
+#pragma once
+// A flat metric with cones as `mspline flatten` computes it, for tests: Newton on the input
+// triangulation, or with intrinsic flips and their common subdivision where it degenerates.
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "structure/curvature_target.h"
+#include "structure/tri_mesh.h"
+
+namespace mspline::test {
+
+struct FlatMetric {
+  /// The surface laid out: the input, or the overlay after flips.
+  structure::TriMesh surface;
+  /// Its flat edge lengths (curvature error 1e-12 at most).
+  Eigen::VectorXd lengths;
+};
+
+/// Flat everywhere but at `cones` (closed surfaces); fails the running test when the flow does not
+/// converge.
+FlatMetric flatMetric(const structure::TriMesh& mesh, const std::vector<structure::Cone>& cones);
+
+}  // namespace mspline::test
