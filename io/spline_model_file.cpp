@@ -4,13 +4,13 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
 #include <limits>
 #include <string_view>
 
 #include "io/atomic_file.h"
 #include "io/byte_order.h"
 #include "io/output_buffer.h"
+#include "io/whole_file.h"
 #include "structure/errors.h"
 
 namespace mspline::io {
@@ -142,18 +142,6 @@ void checkModel(const SplineModel& model) {
   spline::validateDomain(domain);
 }
 
-std::string readFileBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw structure::IoError("cannot open '" + path + "': " + std::strerror(errno));
-  std::string data;
-  char chunk[1 << 16];
-  while (in.read(chunk, sizeof chunk) || in.gcount() > 0)
-    data.append(chunk, std::size_t(in.gcount()));
-  // A directory opens but cannot be read.
-  if (in.bad()) throw structure::IoError("cannot read '" + path + "': " + std::strerror(errno));
-  return data;
-}
-
 // A cursor over the file's bytes that knows which section it is in, for the messages.
 class ModelReader {
  public:
@@ -262,7 +250,7 @@ void writeSplineModel(const std::string& path, const SplineModel& model) {
 }
 
 SplineModel readSplineModel(const std::string& path) {
-  const std::string data = readFileBytes(path);
+  const std::string data = readWholeFile(path);
   ModelReader in(data, path);
   SplineModel model;
 
