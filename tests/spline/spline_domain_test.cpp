@@ -58,7 +58,7 @@ TEST_CASE("spline_domain: home charts of a flat torus are pieces of the plane", 
   CHECK(worst <= 1e-12);
 }
 
-TEST_CASE("spline_domain: a small torus wraps; unmarked cones are refused", "[spline]") {
+TEST_CASE("spline_domain: a small torus wraps, unmarked cones are refused", "[spline]") {
   // 2 x 2 cells: the fans around a face's corners reach faces along paths that go around the
   // torus, so the charts hold copies of them, one per piece of the plane they cover.
   const SplineDomain small = test::flatTorusDomain(2);
