@@ -330,7 +330,11 @@ void DmsSpace::buildTriangleSchemes(const DmsSpaceOptions& options) {
       }
     }
   }
-  for (const auto& graph : edgeGraphs_) maxEdgeNodes_ = std::max(maxEdgeNodes_, graph.size());
+  // The graphs are complete: every edge set of the schemes is in.
+  for (auto& graph : edgeGraphs_) {
+    graph.shrink();
+    maxEdgeNodes_ = std::max(maxEdgeNodes_, graph.size());
+  }
 }
 
 DmsSpace::Hull DmsSpace::makeHull(std::vector<Vector2d> points) {
@@ -363,7 +367,7 @@ DmsSpace::Hull DmsSpace::makeHull(std::vector<Vector2d> points) {
   return hull;
 }
 
-bool DmsSpace::inHull(const Hull& hull, double x, double y) const {
+inline bool DmsSpace::inHull(const Hull& hull, double x, double y) const {
   if (x < hull.minX || x > hull.maxX || y < hull.minY || y > hull.maxY) return false;
   for (int p = hull.firstPlane; p < hull.endPlane; ++p)
     if (planes_[p][0] * x + planes_[p][1] * y > planes_[p][2]) return false;
@@ -600,9 +604,6 @@ std::vector<int> DmsSpace::influencingTriangles(int triangle) const {
 template <int Derivatives, class Visitor>
 void DmsSpace::visitBasis(int triangle, const Vector2d& x, Scratch& scratch,
                           Visitor&& visit) const {
-  const int n = degree_;
-  const int top = levelStart_[n];
-  const int lower = levelStart_[n - 1];
   double* nodes = scratch.nodes.data();
   signed char* state = scratch.edgeState.data();
   const int edgeBegin = edgeStart_[triangle];
@@ -647,76 +648,90 @@ void DmsSpace::visitBasis(int triangle, const Vector2d& x, Scratch& scratch,
                                        perturbedSide(vertices_[tri[1]], vertices_[tri[2]], x) > 0 &&
                                        perturbedSide(vertices_[tri[2]], origin, x) > 0;
     if (!inside && !anyEdge) continue;  // every node is zero
-    nodes[0] = inside ? 1.0 : 0.0;
-    const double dx = x.x() - origin.x();
-    const double dy = x.y() - origin.y();
-    // Node k >= 1's coefficients start at children[3 (k - 1)].
-    const Child* children =
-        children_.data() + static_cast<std::size_t>(source) * (schemeNodes_ - 1) * 3;
-    const int* own = ownChildren_.data();
-    for (int node = 1; node < top; ++node) {
-      const Child* ch = children + (node - 1) * 3;
-      double v = 0.0;
-      for (int j = 0, used = anyEdge ? 3 : own[node]; j < used; ++j)
-        v += (ch[j].a + ch[j].bx * dx + ch[j].by * dy) * from[ch[j].source][ch[j].index];
-      nodes[node] = v;
-    }
-    if constexpr (Derivatives >= 2) {
-      // Gradients of level n - 1 (zero at level 0).
-      for (int node = lower; node < top; ++node) {
-        double gx = 0.0, gy = 0.0;
-        if (node > 0) {
-          const Child* ch = children + (node - 1) * 3;
-          for (int j = 0; j < 3; ++j) {
-            const double w = from[ch[j].source][ch[j].index];
-            gx += ch[j].bx * w;
-            gy += ch[j].by * w;
-          }
-        }
-        scratch.lowerGradient[2 * (node - lower)] = (n - 1) * gx;
-        scratch.lowerGradient[2 * (node - lower) + 1] = (n - 1) * gy;
-      }
-    }
-    const int firstIndex = source * perTriangle_ - top;
-    for (int node = top; node < schemeNodes_; ++node) {
-      const Child* ch = children + (node - 1) * 3;
-      double v = 0.0, gx = 0.0, gy = 0.0, hxx = 0.0, hxy = 0.0, hyy = 0.0;
-      for (int j = 0, used = anyEdge ? 3 : own[node]; j < used; ++j) {
-        const double w = from[ch[j].source][ch[j].index];
-        v += (ch[j].a + ch[j].bx * dx + ch[j].by * dy) * w;
-        if constexpr (Derivatives >= 1) {
-          gx += ch[j].bx * w;
-          gy += ch[j].by * w;
-        }
-        if constexpr (Derivatives >= 2) {
-          double cx = 0.0, cy = 0.0;
-          if (ch[j].source == 0) {
-            cx = scratch.lowerGradient[2 * (ch[j].index - lower)];
-            cy = scratch.lowerGradient[2 * (ch[j].index - lower) + 1];
-          } else if (from[ch[j].source] != scratch.zeros.data()) {
-            const Vector2d g = edgeGraphs_[triangleEdges_[source][ch[j].source - 1]].gradient(
-                ch[j].index, from[ch[j].source]);
-            cx = g.x();
-            cy = g.y();
-          }
-          hxx += ch[j].bx * cx;
-          hxy += (ch[j].bx * cy + ch[j].by * cx) / 2;
-          hyy += ch[j].by * cy;
-        }
-      }
-      visit(firstIndex + node, v, n * gx, n * gy, n * hxx, n * hxy, n * hyy);
-    }
+    visitScheme<Derivatives>(source, x, inside, from, anyEdge, scratch, visit);
   }
 }
 
-template <class Visitor>
-void DmsSpace::dispatch(int derivatives, int triangle, const Vector2d& x, Visitor&& visit) const {
+template <int Derivatives, class Visitor>
+void DmsSpace::visitScheme(int source, const Vector2d& x, bool inside, const double* const* from,
+                           bool anyEdge, Scratch& scratch, Visitor&& visit) const {
+  const int n = degree_;
+  const int top = levelStart_[n];
+  const int lower = levelStart_[n - 1];
+  double* nodes = scratch.nodes.data();
+  const auto& tri = triangles_[source];
+  const Vector2d& origin = vertices_[tri[0]];
+  nodes[0] = inside ? 1.0 : 0.0;
+  const double dx = x.x() - origin.x();
+  const double dy = x.y() - origin.y();
+  // Node k >= 1's coefficients start at children[3 (k - 1)].
+  const Child* children =
+      children_.data() + static_cast<std::size_t>(source) * (schemeNodes_ - 1) * 3;
+  const int* own = ownChildren_.data();
+  for (int node = 1; node < top; ++node) {
+    const Child* ch = children + (node - 1) * 3;
+    double v = 0.0;
+    for (int j = 0, used = anyEdge ? 3 : own[node]; j < used; ++j)
+      v += (ch[j].a + ch[j].bx * dx + ch[j].by * dy) * from[ch[j].source][ch[j].index];
+    nodes[node] = v;
+  }
+  if constexpr (Derivatives >= 2) {
+    // Gradients of level n - 1 (zero at level 0).
+    for (int node = lower; node < top; ++node) {
+      double gx = 0.0, gy = 0.0;
+      if (node > 0) {
+        const Child* ch = children + (node - 1) * 3;
+        for (int j = 0; j < 3; ++j) {
+          const double w = from[ch[j].source][ch[j].index];
+          gx += ch[j].bx * w;
+          gy += ch[j].by * w;
+        }
+      }
+      scratch.lowerGradient[2 * (node - lower)] = (n - 1) * gx;
+      scratch.lowerGradient[2 * (node - lower) + 1] = (n - 1) * gy;
+    }
+  }
+  const int firstIndex = source * perTriangle_ - top;
+  for (int node = top; node < schemeNodes_; ++node) {
+    const Child* ch = children + (node - 1) * 3;
+    double v = 0.0, gx = 0.0, gy = 0.0, hxx = 0.0, hxy = 0.0, hyy = 0.0;
+    for (int j = 0, used = anyEdge ? 3 : own[node]; j < used; ++j) {
+      const double w = from[ch[j].source][ch[j].index];
+      v += (ch[j].a + ch[j].bx * dx + ch[j].by * dy) * w;
+      if constexpr (Derivatives >= 1) {
+        gx += ch[j].bx * w;
+        gy += ch[j].by * w;
+      }
+      if constexpr (Derivatives >= 2) {
+        double cx = 0.0, cy = 0.0;
+        if (ch[j].source == 0) {
+          cx = scratch.lowerGradient[2 * (ch[j].index - lower)];
+          cy = scratch.lowerGradient[2 * (ch[j].index - lower) + 1];
+        } else if (from[ch[j].source] != scratch.zeros.data()) {
+          const Vector2d g = edgeGraphs_[triangleEdges_[source][ch[j].source - 1]].gradient(
+              ch[j].index, from[ch[j].source]);
+          cx = g.x();
+          cy = g.y();
+        }
+        hxx += ch[j].bx * cx;
+        hxy += (ch[j].bx * cy + ch[j].by * cx) / 2;
+        hyy += ch[j].by * cy;
+      }
+    }
+    visit(firstIndex + node, v, n * gx, n * gy, n * hxx, n * hxy, n * hyy);
+  }
+}
+
+inline void DmsSpace::checkArguments(int derivatives, int triangle) const {
   if (derivatives < 0 || derivatives > 2)
     throw InputError("DMS space: derivatives must be 0, 1 or 2, got " +
                      std::to_string(derivatives));
   if (triangle < 0 || triangle >= numTriangles())
     throw InputError("DMS space: triangle " + std::to_string(triangle) + " is outside 0.." +
                      std::to_string(numTriangles() - 1));
+}
+
+DmsSpace::Scratch& DmsSpace::scratch() const {
   // Per thread, grown to the largest space evaluated on it: no allocation per point.
   static thread_local Scratch scratch;
   const auto grow = [](auto& vector, std::size_t size) {
@@ -727,12 +742,126 @@ void DmsSpace::dispatch(int derivatives, int triangle, const Vector2d& x, Visito
   grow(scratch.edgeValues, static_cast<std::size_t>(maxEdgeSlots_) * maxEdgeNodes_);
   grow(scratch.edgeState, maxEdgeSlots_);
   grow(scratch.zeros, maxEdgeNodes_);
+  return scratch;
+}
+
+template <class Visitor>
+void DmsSpace::dispatch(int derivatives, int triangle, const Vector2d& x, Visitor&& visit) const {
+  checkArguments(derivatives, triangle);
+  Scratch& buffers = scratch();
   if (derivatives == 0)
-    visitBasis<0>(triangle, x, scratch, visit);
+    visitBasis<0>(triangle, x, buffers, visit);
   else if (derivatives == 1)
-    visitBasis<1>(triangle, x, scratch, visit);
+    visitBasis<1>(triangle, x, buffers, visit);
   else
-    visitBasis<2>(triangle, x, scratch, visit);
+    visitBasis<2>(triangle, x, buffers, visit);
+}
+
+inline std::array<double, 3> DmsSpace::barycentric(int triangle, const Vector2d& x) const {
+  const std::array<double, 9>& frame = frames_[triangle];
+  const Vector2d& first = vertices_[triangles_[triangle][0]];
+  const double fx = x.x() - first.x();
+  const double fy = x.y() - first.y();
+  return {frame[0] + frame[1] * fx + frame[2] * fy, frame[3] + frame[4] * fx + frame[5] * fy,
+          frame[6] + frame[7] * fx + frame[8] * fy};
+}
+
+inline bool DmsSpace::inEdgeHull(int triangle, int j, const std::array<double, 3>& lambda,
+                                 const Vector2d& x) const {
+  // Screened by T's coordinates first (T is the first of its own influencing triangles).
+  const auto& upper =
+      edgeBounds_[edgeStart_[triangle] + neighbourEdgeSlots_[neighbourStart_[triangle]][j]];
+  return lambda[0] <= upper[0] && lambda[1] <= upper[1] && lambda[2] <= upper[2] &&
+         inHull(edgeHulls_[triangleEdges_[triangle][j]], x.x(), x.y());
+}
+
+BivariatePolynomial DmsSpace::trianglePolynomials(int triangle) const {
+  checkArguments(0, triangle);
+  const int n = degree_;
+  const int monomials = BivariatePolynomial::monomialCount(n);
+  // The scheme's recurrence on polynomials: nodes[0] = 1, every other node the sum over its own
+  // children of (a + bx x + by y) times the child (the edge sets vanish here).
+  std::vector<double> nodes(static_cast<std::size_t>(schemeNodes_) * monomials, 0.0);
+  nodes[0] = 1.0;
+  const Child* children =
+      children_.data() + static_cast<std::size_t>(triangle) * (schemeNodes_ - 1) * 3;
+  for (int node = 1; node < schemeNodes_; ++node) {
+    const Child* ch = children + (node - 1) * 3;
+    double* to = nodes.data() + static_cast<std::size_t>(node) * monomials;
+    for (int j = 0; j < ownChildren_[node]; ++j) {
+      const double* child = nodes.data() + static_cast<std::size_t>(ch[j].index) * monomials;
+      for (int a = 0; a < n; ++a)
+        for (int b = 0; a + b < n; ++b) {
+          const double c = child[BivariatePolynomial::monomialIndex(a, b)];
+          to[BivariatePolynomial::monomialIndex(a, b)] += ch[j].a * c;
+          to[BivariatePolynomial::monomialIndex(a + 1, b)] += ch[j].bx * c;
+          to[BivariatePolynomial::monomialIndex(a, b + 1)] += ch[j].by * c;
+        }
+    }
+  }
+  BivariatePolynomial polynomial;
+  polynomial.degree = n;
+  polynomial.coefficients.resize(monomials, perTriangle_);
+  for (int k = 0; k < perTriangle_; ++k)
+    for (int m = 0; m < monomials; ++m)
+      polynomial.coefficients(m, k) =
+          nodes[static_cast<std::size_t>(levelStart_[n] + k) * monomials + m];
+  return polynomial;
+}
+
+bool DmsSpace::triangleBasisAt(int triangle, const Vector2d& x, TriangleBasis& out,
+                               int derivatives) const {
+  checkArguments(derivatives, triangle);
+  const auto& tri = triangles_[triangle];
+  const std::array<double, 3> lambda = barycentric(triangle, x);
+  // Inside the half-open triangle: the coordinates decide where they are clearly positive or
+  // negative (beyond any rounding), the exact predicates elsewhere.
+  bool inside = false;
+  if (lambda[0] > 1e-9 && lambda[1] > 1e-9 && lambda[2] > 1e-9)
+    inside = true;
+  else if (lambda[0] >= -1e-9 && lambda[1] >= -1e-9 && lambda[2] >= -1e-9)
+    inside = perturbedSide(vertices_[tri[0]], vertices_[tri[1]], x) > 0 &&
+             perturbedSide(vertices_[tri[1]], vertices_[tri[2]], x) > 0 &&
+             perturbedSide(vertices_[tri[2]], vertices_[tri[0]], x) > 0;
+  // The edge sets where the two clouds' hull holds x.
+  const bool edges[3] = {inEdgeHull(triangle, 0, lambda, x), inEdgeHull(triangle, 1, lambda, x),
+                         inEdgeHull(triangle, 2, lambda, x)};
+  const bool anyEdge = edges[0] || edges[1] || edges[2];
+  if (!inside && !anyEdge) return false;
+  Scratch& buffers = scratch();
+  const double* from[4] = {buffers.nodes.data(), buffers.zeros.data(), buffers.zeros.data(),
+                           buffers.zeros.data()};
+  for (int j = 0; j < 3; ++j)
+    if (edges[j]) {
+      double* values = buffers.edgeValues.data() + static_cast<std::size_t>(j) * maxEdgeNodes_;
+      edgeGraphs_[triangleEdges_[triangle][j]].values(x, values);
+      from[1 + j] = values;
+    }
+  out.value.resize(perTriangle_);
+  out.gradient.resize(derivatives >= 1 ? 2 * perTriangle_ : 0);
+  out.hessian.resize(derivatives >= 2 ? 3 * perTriangle_ : 0);
+  const int first = triangle * perTriangle_;
+  const auto write = [&](int index, double v, double gx, double gy, double hxx, double hxy,
+                         double hyy) {
+    const int k = index - first;
+    out.value[k] = v;
+    if (derivatives >= 1) {
+      out.gradient[2 * k] = gx;
+      out.gradient[2 * k + 1] = gy;
+    }
+    if (derivatives >= 2) {
+      out.hessian[3 * k] = hxx;
+      out.hessian[3 * k + 1] = hxy;
+      out.hessian[3 * k + 2] = hyy;
+    }
+  };
+  if (derivatives == 0)
+    visitScheme<0>(triangle, x, inside, from, anyEdge, buffers, write);
+  else if (derivatives == 1)
+    visitScheme<1>(triangle, x, inside, from, anyEdge, buffers, write);
+  else
+    visitScheme<2>(triangle, x, inside, from, anyEdge, buffers, write);
+  return true;
 }
 
 void DmsSpace::basisAt(int triangle, const Vector2d& x, BasisValues& out, int derivatives) const {

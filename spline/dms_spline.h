@@ -84,6 +84,16 @@ struct BasisValues {
   std::vector<Eigen::Matrix2d> hessian;
 };
 
+/// The basis functions of one triangle T at a point: entry k belongs to N_{T * perTriangle + k}
+/// (perTriangle = (n + 1)(n + 2) / 2), zeros included.
+struct TriangleBasis {
+  std::vector<double> value;
+  /// With derivatives >= 1 (else empty): d/dx, d/dy of function k at 2 k, 2 k + 1.
+  std::vector<double> gradient;
+  /// With derivatives >= 2 (else empty): d2/dx2, d2/dxdy, d2/dy2 of function k at 3 k .. 3 k + 2.
+  std::vector<double> hessian;
+};
+
 /// A spline and its derivatives at one point (control points of any dimension d).
 struct SplinePoint {
   Eigen::VectorXd position;
@@ -109,6 +119,8 @@ struct SplineSamples {
   /// d = 3 and derivatives >= 1: one unit normal per row (3 columns).
   Eigen::MatrixXd normal;
 };
+
+struct BivariatePolynomial;
 
 /// The DMS spline space of a planar triangulation with knot clouds: its basis, point location
 /// and spline evaluation. Immutable after construction; evaluation from several threads at once
@@ -164,6 +176,20 @@ class DmsSpace {
   /// with derivatives up to `derivatives` (0, 1 or 2). Reuses `out`'s storage.
   void basisAt(int triangle, const Eigen::Vector2d& x, BasisValues& out, int derivatives = 0) const;
 
+  /// The basis functions of triangle T alone (its neighbours' left out) at any point x of the
+  /// plane, for callers that evaluate each triangle's functions where its own chart puts the point
+  /// (manifold splines: a one-triangle space per face). Returns false where x lies outside all
+  /// their supports (`out` then unchanged); else fills `out`, reusing its storage.
+  bool triangleBasisAt(int triangle, const Eigen::Vector2d& x, TriangleBasis& out,
+                       int derivatives = 0) const;
+
+  /// Inside triangle T and away from its edges' knot clouds the recurrence meets no edge set, and
+  /// T's basis functions are polynomials there (B-patches): column k of the result is
+  /// N_{T * basisPerTriangle() + k} as a polynomial in x - (T's first vertex), which holds where
+  /// T's barycentric coordinates exceed 1e-9 and x is outside the convex hulls of the knot clouds
+  /// of T's edges (knots()[i] and knots()[j] for the edge between vertices i and j).
+  BivariatePolynomial trianglePolynomials(int triangle) const;
+
   /// The spline sum_k control.row(k) N_k at x in the closed triangle T (triangle < 0: located),
   /// with derivatives up to `derivatives` (0, 1 or 2). control has numBasis() rows.
   SplinePoint evaluate(const Eigen::MatrixXd& control, int triangle, const Eigen::Vector2d& x,
@@ -203,8 +229,25 @@ class DmsSpace {
   /// support holds x (Derivatives: 0, 1 or 2; unused outputs are zero).
   template <int Derivatives, class Visitor>
   void visitBasis(int triangle, const Eigen::Vector2d& x, Scratch& scratch, Visitor&& visit) const;
+  /// Triangle `source`'s scheme at x: nodes[0] = inside (the half-open triangle holds x), and
+  /// from[0] = scratch.nodes, from[1 + j] the values of the graph of the edge opposite local
+  /// vertex j (scratch.zeros where its hull does not hold x; anyEdge: some does). Calls visit as
+  /// visitBasis does.
+  template <int Derivatives, class Visitor>
+  void visitScheme(int source, const Eigen::Vector2d& x, bool inside, const double* const* from,
+                   bool anyEdge, Scratch& scratch, Visitor&& visit) const;
   template <class Visitor>
   void dispatch(int derivatives, int triangle, const Eigen::Vector2d& x, Visitor&& visit) const;
+  /// T's barycentric coordinates at x (frames_).
+  std::array<double, 3> barycentric(int triangle, const Eigen::Vector2d& x) const;
+  /// Whether the hull of the clouds of T's edge opposite local vertex j holds x (lambda: T's
+  /// barycentric coordinates at x).
+  bool inEdgeHull(int triangle, int j, const std::array<double, 3>& lambda,
+                  const Eigen::Vector2d& x) const;
+  /// InputError for derivatives outside 0..2 or a triangle out of range.
+  void checkArguments(int derivatives, int triangle) const;
+  /// This thread's evaluation buffers, grown for this space.
+  Scratch& scratch() const;
 
   int degree_ = 0;
   int perTriangle_ = 0;

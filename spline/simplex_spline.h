@@ -53,9 +53,11 @@ inline void twoSum(Scalar a, Scalar b, Scalar& sum, Scalar& error) {
 // floats by fma and the twelve are summed into a non-overlapping expansion (Shewchuk's
 // grow-expansion), exactly. Returns the expansion's sum (non-zero with the exact sign whenever
 // the determinant is non-zero) and writes the exact sign.
+// Out of line: the filter in orientationDeterminant rarely fails, and inlining it there everywhere
+// would bloat the callers' loops.
 template <class Scalar>
-Scalar exactDeterminant(const Point2<Scalar>& a, const Point2<Scalar>& b, const Point2<Scalar>& c,
-                        int& sign) {
+[[gnu::noinline]] Scalar exactDeterminant(const Point2<Scalar>& a, const Point2<Scalar>& b,
+                                          const Point2<Scalar>& c, int& sign) {
   const std::array<std::array<Scalar, 2>, 6> products = {{{a.x(), b.y()},
                                                           {-a.x(), c.y()},
                                                           {-c.x(), b.y()},
@@ -89,8 +91,8 @@ Scalar exactDeterminant(const Point2<Scalar>& a, const Point2<Scalar>& b, const 
 /// sign, else from exact expansion arithmetic (then non-zero exactly when the points are not
 /// collinear, so it can divide). `sign` receives the exact sign.
 template <class Scalar>
-Scalar orientationDeterminant(const Point2<Scalar>& a, const Point2<Scalar>& b,
-                              const Point2<Scalar>& c, int& sign) {
+inline Scalar orientationDeterminant(const Point2<Scalar>& a, const Point2<Scalar>& b,
+                                     const Point2<Scalar>& c, int& sign) {
   static_assert(std::is_floating_point_v<Scalar>, "exact predicates need IEEE floating point");
   // Shewchuk's orient2d error bound (3 + 16 eps) eps with eps half the machine epsilon.
   constexpr Scalar eps = std::numeric_limits<Scalar>::epsilon() / 2;
@@ -158,6 +160,9 @@ class SimplexSplineGraph {
     /// degree >= 1: the nodes of the knots without w_j (0 when those lie on a line);
     /// degree 0: the triangle's three knots, counter-clockwise.
     std::array<int, 3> child{0, 0, 0};
+    /// degree 0: its sides child[j] -> child[j + 1] as knot lines: line side[j] >> 1 of the
+    /// graph, reversed where bit 0 is set (x is inside when it is left of all three sides).
+    std::array<int, 3> side{0, 0, 0};
     /// degree >= 1: value = sum_j alpha_j(x) value(child_j) with
     /// alpha_j(x) = a_j + bx_j (x - origin).x + by_j (x - origin).y, a multiple of lambda_j.
     std::array<Scalar, 3> a{0, 0, 0};
@@ -187,6 +192,15 @@ class SimplexSplineGraph {
     return node;
   }
 
+  /// Frees what only add() needs (the table of the sets added so far) and trims the storage, for
+  /// graphs that are complete. add() still works afterwards, but builds its nodes anew instead of
+  /// sharing them with the sets added before.
+  void shrink() {
+    std::unordered_map<Mask, int>().swap(memo_);
+    nodes_.shrink_to_fit();
+    lines_.shrink_to_fit();
+  }
+
   int size() const { return static_cast<int>(nodes_.size()); }
   const Node& node(int index) const { return nodes_[index]; }
 
@@ -195,15 +209,23 @@ class SimplexSplineGraph {
     values[0] = 0;
     const Scalar dx = x.x() - origin_.x();
     const Scalar dy = x.y() - origin_.y();
+    // The side of x of each knot line, decided once per line however many triangles share it:
+    // +1 or -1 (perturbedSide of its knots in order), 0 until needed.
+    std::array<signed char, kMaxKnots*(kMaxKnots - 1) / 2> sides;
+    std::fill_n(sides.begin(), lines_.size(), static_cast<signed char>(0));
+    const auto leftOf = [&](int side) {
+      signed char& known = sides[side >> 1];
+      if (known == 0) {
+        const auto& [from, to] = lines_[side >> 1];
+        known = static_cast<signed char>(perturbedSide(knots_[from], knots_[to], x));
+      }
+      return (side & 1 ? -known : known) > 0;
+    };
     for (std::size_t i = 1; i < nodes_.size(); ++i) {
       const Node& n = nodes_[i];
       if (n.degree == 0) {
-        const auto& c = n.child;
-        values[i] = perturbedSide(knots_[c[0]], knots_[c[1]], x) > 0 &&
-                            perturbedSide(knots_[c[1]], knots_[c[2]], x) > 0 &&
-                            perturbedSide(knots_[c[2]], knots_[c[0]], x) > 0
-                        ? Scalar(1)
-                        : Scalar(0);
+        values[i] =
+            leftOf(n.side[0]) && leftOf(n.side[1]) && leftOf(n.side[2]) ? Scalar(1) : Scalar(0);
       } else {
         Scalar v = 0;
         for (int j = 0; j < 3; ++j)
@@ -303,6 +325,7 @@ class SimplexSplineGraph {
     if (node.degree == 0) {
       node.child =
           sign > 0 ? std::array<int, 3>{w[0], w[1], w[2]} : std::array<int, 3>{w[0], w[2], w[1]};
+      for (int j = 0; j < 3; ++j) node.side[j] = lineSide(node.child[j], node.child[(j + 1) % 3]);
       nodes_.push_back(node);
       return size() - 1;
     }
@@ -324,9 +347,20 @@ class SimplexSplineGraph {
     return size() - 1;
   }
 
+  // The directed side from knot `from` to knot `to` (distinct) as a Node::side code; adds the line.
+  int lineSide(int from, int to) {
+    const std::array<int, 2> key = {std::min(from, to), std::max(from, to)};
+    const auto it = std::find(lines_.begin(), lines_.end(), key);
+    const int index = static_cast<int>(it - lines_.begin());
+    if (it == lines_.end()) lines_.push_back(key);
+    return 2 * index + (from > to ? 1 : 0);
+  }
+
   std::vector<Point> knots_;
   Point origin_;
   std::vector<Node> nodes_;
+  /// The knot pairs (lower index first) that the triangle nodes' sides lie on.
+  std::vector<std::array<int, 2>> lines_;
   std::unordered_map<Mask, int> memo_;
 };
 

@@ -23,6 +23,7 @@
 // cone's faces contribute the denominator is 1 to rounding and nothing changes. Close to a cone
 // the small denominator amplifies rounding; `denominator` reports it, and the commands report
 // the smallest one met and where it falls below their threshold (the hole around the cone).
+#include <array>
 #include <vector>
 
 #include <Eigen/Core>
@@ -73,9 +74,15 @@ class TriBSplineSpace {
   /// derivatives in the frame of point.face. InputError at a cone point.
   SplinePoint evaluate(const Eigen::MatrixXd& control, const DomainPoint& point,
                        int derivatives = 1) const;
-  /// The same at many points (rows in the order of `points`).
+  /// The same at many points (rows in the order of `points`); agrees with evaluate up to
+  /// rounding. The points are taken face by face; where only a face's own functions reach (inside
+  /// it, away from its sides' knot clouds) the sums come from its polynomial pieces
+  /// (DmsSpace::trianglePolynomials), elsewhere function by function, normalized once per point.
   SplineSamples evaluateBatch(const Eigen::MatrixXd& control,
                               const std::vector<DomainPoint>& points, int derivatives = 1) const;
+  /// The same into `out`, reusing its matrices' storage when they have the size already.
+  void evaluateBatch(const Eigen::MatrixXd& control, const std::vector<DomainPoint>& points,
+                     int derivatives, SplineSamples& out) const;
 
   /// The faces whose home charts hold `face` (their basis functions may be non-zero on it), one
   /// entry per copy of `face` in the chart: evaluateInChart's `holder` indexes this list.
@@ -103,23 +110,51 @@ class TriBSplineSpace {
     /// motion.translation (the rotation's matrix kept, as evaluation needs it at every point).
     structure::RigidMotion motion;
     Eigen::Matrix2d rotation;
+    /// Where `face`'s functions may be non-zero: its triangle and the convex hulls of the knot
+    /// clouds of its three sides (beyond its triangle only the sides' edge sets reach), each as
+    /// upper bounds of the barycentric coordinates with respect to the face holding the point,
+    /// widened by 1e-9. Three comparisons per region.
+    std::array<std::array<double, 3>, 4> reach;
+    /// Their largest coordinates (the bounds of their union), tested first.
+    std::array<double, 3> anyReach;
+    /// Whether a point with barycentric coordinates lambda may lie in one of the regions.
+    bool mayReach(const double* lambda) const;
   };
+  using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  /// evaluateBatch's work on the points in `order` (grouped by face), with rows = [1, control
+  /// point] per basis function; Parts: 1, 3 or 6 for derivatives 0, 1, 2; Width: rows' columns
+  /// when fixed at compile time, else 0.
+  template <int Parts, int Width>
+  void evaluateOrdered(const std::vector<DomainPoint>& points, const std::vector<int>& order,
+                       const RowMatrix& rows, SplineSamples& samples) const;
+  /// The barycentric coordinates of the frame position x in `face`.
+  std::array<double, 3> barycentricAt(int face, const Eigen::Vector2d& x) const;
+  /// Calls visit(contributor, basis) for every contributor with a function that may be non-zero
+  /// at the point `x` (frame position; lambda: barycentricAt) of `face`, with its basis there in
+  /// its own frame.
   template <class Visitor>
-  void visitRaw(const DomainPoint& point, int derivatives, Visitor&& visit) const;
+  void visitContributors(int face, const Eigen::Vector2d& x, const std::array<double, 3>& lambda,
+                         int derivatives, TriangleBasis& basis, Visitor&& visit) const;
 
   SplineDomain domain_;
   std::vector<FaceKnots> knots_;
   std::vector<HomeChart> charts_;
   int degree_ = 0;
   int perFace_ = 0;
-  /// Per face: the one-triangle DMS space of its knots in its frame, and the bounding box of its
-  /// knots (which holds the supports of its functions), to skip faces far from a point.
+  /// Per face: the one-triangle DMS space of its knots in its frame.
   std::vector<DmsSpace> faceSpaces_;
-  std::vector<Eigen::AlignedBox2d> supportBoxes_;
   /// Per face: canonicalCorners.
   std::vector<std::array<Eigen::Vector2d, 3>> corners_;
+  /// Per face: its barycentric coordinates in its frame, lambda_j(x) = c_j + gx_j x.x + gy_j x.y
+  /// stored as (c_j, gx_j, gy_j) for j = 0, 1, 2.
+  std::vector<std::array<double, 9>> barycentric_;
   /// Per face G: the faces whose charts hold G, with the motion from G's frame into theirs.
   std::vector<std::vector<Contributor>> contributors_;
+  /// Per face G: lower bounds t of its barycentric coordinates such that where lambda_j > t_j
+  /// (j = 0, 1, 2) only G's own functions reach (no other contributor's regions, none of the
+  /// hulls of the clouds of G's sides) and they are polynomials (DmsSpace::trianglePolynomials).
+  /// An inner triangle, chosen so that each such region lies in some lambda_j <= t_j.
+  std::vector<std::array<double, 3>> polynomialFrom_;
 };
 
 }  // namespace mspline::spline

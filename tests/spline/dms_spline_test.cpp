@@ -519,6 +519,76 @@ TEST_CASE("dms_spline: batch evaluation agrees with single points", "[spline]") 
   CHECK_THROWS_AS(space.evaluateBatch(control, {}, outside, 1), structure::InputError);
 }
 
+TEST_CASE("dms_spline: one triangle's functions anywhere, polynomials inside", "[spline]") {
+  const Domain domain = jitteredGrid(4, 121);
+  const DmsSpace space(domain.vertices, domain.triangles, 3);
+  const int per = space.basisPerTriangle();
+  std::mt19937_64 random(122);
+  spline::TriangleBasis alone;
+  BasisValues all;
+  int nonZero = 0;
+  for (int s = 0; s < 200; ++s) {
+    const Vector2d x = interiorPoint(random);
+    space.basisAt(space.locate(x), x, all, 2);
+    for (int t = 0; t < space.numTriangles(); ++t) {
+      // What basisAt lists of T's functions (the others vanish at x).
+      std::vector<double> value(per, 0.0), gradient(2 * per, 0.0), hessian(3 * per, 0.0);
+      bool listed = false;
+      for (std::size_t k = 0; k < all.index.size(); ++k) {
+        const int j = all.index[k] - t * per;
+        if (j < 0 || j >= per) continue;
+        listed = true;
+        value[j] = all.value[k];
+        gradient[2 * j] = all.gradient[k].x();
+        gradient[2 * j + 1] = all.gradient[k].y();
+        hessian[3 * j] = all.hessian[k](0, 0);
+        hessian[3 * j + 1] = all.hessian[k](0, 1);
+        hessian[3 * j + 2] = all.hessian[k](1, 1);
+      }
+      if (!space.triangleBasisAt(t, x, alone, 2)) {
+        CHECK_FALSE(listed);
+        continue;
+      }
+      ++nonZero;
+      for (int j = 0; j < per; ++j) {
+        CHECK(std::abs(alone.value[j] - value[j]) <= 1e-14);
+        CHECK(std::abs(alone.gradient[2 * j] - gradient[2 * j]) <= 1e-11);
+        CHECK(std::abs(alone.gradient[2 * j + 1] - gradient[2 * j + 1]) <= 1e-11);
+        CHECK(std::abs(alone.hessian[3 * j + 1] - hessian[3 * j + 1]) <= 1e-8);
+      }
+    }
+  }
+  // Each point has its own triangle's functions and, near edges, some neighbours'.
+  CHECK(nonZero > 200);
+
+  // Clouds lie within radiusFraction (0.3) times the inradius of their vertex, so at more than
+  // 0.3 inradii from every side no edge set reaches: there the functions are the polynomials.
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int t = 0; t < space.numTriangles(); ++t) {
+    const auto& tri = space.triangles()[t];
+    const Vector2d& a = space.vertices()[tri[0]];
+    const Vector2d& b = space.vertices()[tri[1]];
+    const Vector2d& c = space.vertices()[tri[2]];
+    const double la = (b - c).norm(), lb = (c - a).norm(), lc = (a - b).norm();
+    const Vector2d incenter = (la * a + lb * b + lc * c) / (la + lb + lc);
+    const double area = 0.5 * std::abs((b - a).x() * (c - a).y() - (b - a).y() * (c - a).x());
+    const double inradius = 2.0 * area / (la + lb + lc);
+    const BivariatePolynomial polynomials = space.trianglePolynomials(t);
+    REQUIRE(polynomials.coefficients.cols() == per);
+    for (int s = 0; s < 5; ++s) {
+      const double r = 0.6 * inradius * std::sqrt(unit(random)), angle = 6.283185307 * unit(random);
+      const Vector2d x = incenter + r * Vector2d(std::cos(angle), std::sin(angle));
+      REQUIRE(space.triangleBasisAt(t, x, alone, 1));
+      const Eigen::VectorXd value = polynomials(x - a);
+      const Eigen::VectorXd dx = polynomialDerivative(polynomials, x - a, 1, 0);
+      for (int j = 0; j < per; ++j) {
+        CHECK(std::abs(value[j] - alone.value[j]) <= 1e-12);
+        CHECK(std::abs(dx[j] - alone.gradient[2 * j]) * inradius <= 1e-11);
+      }
+    }
+  }
+}
+
 TEST_CASE("dms_spline: rejects invalid input", "[spline]") {
   const Domain domain = jitteredGrid(3, 121);
   const KnotClouds knots = spline::generateKnotClouds(domain.vertices, domain.triangles, 3);

@@ -1,7 +1,10 @@
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include "spline/tri_bspline.h"
 #include "structure/errors.h"
@@ -148,6 +151,75 @@ TEST_CASE("tri_bspline: a cube's cones are closed up by the rational normalizati
   CHECK(figures.chartDiscrepancy <= 1e-12);
   CHECK(figures.jump <= 1e-11);
   CHECK(figures.slopeJump <= 1e-9);
+}
+
+TEST_CASE("tri_bspline: batch evaluation agrees with single points", "[spline]") {
+  // The batch sums the raw functions and normalizes once per point, from the faces' polynomials
+  // where only a face's own functions reach; single points normalize every function.
+  const auto cube = test::cubeSurface(2);
+  for (const SplineDomain& domain : {test::flatTorusDomain(5, 0.2),
+                                     spline::domainFromMesh(cube, structure::edgeLengths(cube))}) {
+    const TriBSplineSpace space = makeSpace(domain, 3);
+    std::mt19937 random(21);
+    std::vector<DomainPoint> points;
+    for (int s = 0; s < 2000; ++s) points.push_back(randomPoint(domain, random));
+    // On sides and close to corners too.
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    for (int f = 0; f < domain.faceCount(); ++f)
+      for (int side = 0; side < 3; ++side) {
+        points.push_back(sidePoint(domain, f, side, unit(random)).first);
+        DomainPoint corner{f, Eigen::Vector3d::Constant(0.005 + 0.01 * unit(random))};
+        corner.barycentric[side] = 1.0 - corner.barycentric.sum() + corner.barycentric[side];
+        points.push_back(corner);
+      }
+    for (int dims : {3, 2}) {
+      std::normal_distribution<double> gauss;
+      Eigen::MatrixXd control(space.numBasis(), dims);
+      for (Eigen::Index i = 0; i < control.size(); ++i) control.data()[i] = gauss(random);
+      spline::SplineSamples samples;
+      for (int derivatives : {2, 1, 0}) {
+        space.evaluateBatch(control, points, derivatives, samples);
+        CHECK(samples.position.rows() == Eigen::Index(points.size()));
+        CHECK(samples.du.size() == (derivatives >= 1 ? Eigen::Index(points.size()) * dims : 0));
+        CHECK(samples.dvv.size() == (derivatives >= 2 ? Eigen::Index(points.size()) * dims : 0));
+        CHECK(samples.normal.size() ==
+              (derivatives >= 1 && dims == 3 ? Eigen::Index(points.size()) * 3 : 0));
+        // Per order of derivative: the largest difference relative to the size of the value.
+        std::array<double, 3> worst{};
+        for (std::size_t k = 0; k < points.size(); ++k) {
+          const spline::SplinePoint single = space.evaluate(control, points[k], derivatives);
+          // Rounding grows like the inverse denominator near cones.
+          double denominator = 0.0;
+          spline::BasisValues basis;
+          space.basisAt(points[k], basis, 0, &denominator);
+          const auto error = [&](const Eigen::MatrixXd& batch, const Eigen::VectorXd& one) {
+            return (batch.row(Eigen::Index(k)).transpose() - one).norm() * denominator /
+                   (1.0 + one.norm());
+          };
+          worst[0] = std::max(worst[0], error(samples.position, single.position));
+          if (derivatives >= 1) {
+            worst[1] =
+                std::max({worst[1], error(samples.du, single.du), error(samples.dv, single.dv)});
+            // The normal's rounding also grows as du and dv become parallel.
+            if (dims == 3)
+              worst[1] =
+                  std::max(worst[1],
+                           error(samples.normal, single.normal) *
+                               Eigen::Vector3d(single.du).cross(Eigen::Vector3d(single.dv)).norm() /
+                               ((1.0 + single.du.norm()) * (1.0 + single.dv.norm())));
+          }
+          if (derivatives >= 2)
+            worst[2] = std::max({worst[2], error(samples.duu, single.duu),
+                                 error(samples.duv, single.duv), error(samples.dvv, single.dvv)});
+        }
+        INFO("faces " << domain.faceCount() << ", dimension " << dims << ", derivatives "
+                      << derivatives);
+        CHECK(worst[0] <= 1e-13);
+        CHECK(worst[1] <= 1e-11);
+        CHECK(worst[2] <= 1e-9);
+      }
+    }
+  }
 }
 
 TEST_CASE("tri_bspline: knots that do not fit the domain are refused", "[spline]") {
