@@ -18,12 +18,10 @@ namespace {
 
 using namespace structure;
 
-// Samples also evaluated with the knots moved into each chart (slow, see check's help).
-constexpr int kKnotSamples = 500;
-
 struct CheckArguments {
   std::string model;
   int samples = 10000;
+  int knotSamples = 500;
   unsigned seed = 1;
 };
 
@@ -46,14 +44,19 @@ void addCheckCommand(CLI::App& app, Command& command) {
       "check",
       "Checks a spline model: at random surface points (uniform by area), evaluates the spline "
       "in every chart that holds the point (the point mapped through the chart's transitions; "
-      "on the first 500 samples also the knots mapped into the chart and every simplex spline "
-      "evaluated afresh), and measures the partition of unity (the raw basis' sum away from cones, "
+      "on the first --knot-samples samples also the knots mapped into the chart and every "
+      "simplex spline evaluated afresh), and measures the partition of unity (the raw basis' sum "
+      "away from cones, "
       "where it is 1 up to rounding: the DMS edge terms of two neighbouring faces cancel, each "
       "evaluated in its own chart, which leaves about 1e-12). Exits 3 when a figure fails its "
       "bound (chart discrepancy 1e-12 of the diagonal, partition of unity 1e-11).");
   sub->add_option("MODEL", arguments->model, "Model file (.msp)")->required();
   sub->add_option("--samples", arguments->samples, "Random surface points (default 10000)")
       ->check(CLI::Range(1, 100000000));
+  sub->add_option("--knot-samples", arguments->knotSamples,
+                  "Of the samples, how many are also evaluated with the knots moved into each "
+                  "chart (slow; default 500)")
+      ->check(CLI::Range(0, 100000000));
   sub->add_option("--seed", arguments->seed, "Seed of the random points (default 1)");
   sub->add_flag("--json", command.json, "Print one JSON object on stdout");
   sub->callback([&command, arguments] {
@@ -116,7 +119,7 @@ void addCheckCommand(CLI::App& app, Command& command) {
           ++charts;
           // Moving the knots instead re-evaluates every simplex spline from scratch: slow, so on
           // the first samples only.
-          if (s < kKnotSamples) {
+          if (s < a.knotSamples) {
             const Eigen::VectorXd moved = space.evaluateInChart(
                 model.controlPoints, point, chart, spline::TriBSplineSpace::ChartRoute::MoveKnots);
             knotDiscrepancy = std::max(knotDiscrepancy, (moved - value).norm() / diagonal);
@@ -132,7 +135,7 @@ void addCheckCommand(CLI::App& app, Command& command) {
                   {"max_chart_discrepancy", std::max(discrepancy, knotDiscrepancy)},
                   {"point_route_discrepancy", discrepancy},
                   {"knot_route_discrepancy", knotDiscrepancy},
-                  {"knot_route_samples", std::min(a.samples, kKnotSamples)},
+                  {"knot_route_samples", std::min(a.samples, a.knotSamples)},
                   {"partition_of_unity_error", rawUnity},
                   {"partition_of_unity_samples", rawSamples},
                   {"normalized_partition_of_unity_error", unity},
