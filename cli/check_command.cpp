@@ -10,6 +10,7 @@
 #include "cli/flatten_pipeline.h"
 #include "io/spline_model_file.h"
 #include "spline/tri_bspline.h"
+#include "spline/tspline_check.h"
 #include "structure/errors.h"
 
 namespace mspline::cli {
@@ -34,6 +35,59 @@ std::vector<double> faceAreas(const spline::SplineDomain& domain) {
                                    (c[1] - c[0]).y() * (c[2] - c[0]).x()));
   }
   return areas;
+}
+
+// T-spline models: the same figures through spline::checkTSpline.
+int checkTSplineModel(const CheckArguments& a, const spline::SplineModel& model, Command& command) {
+  Stopwatch clock;
+  const spline::TSplineSpace space(model.tmesh);
+  spline::TSplineCheckOptions options;
+  options.samples = a.samples;
+  options.seed = a.seed;
+  const spline::TSplineCheck check =
+      spline::checkTSpline(space, model.controlPoints, model.weights, options);
+  const double seconds = clock.lap();
+  const double discrepancy =
+      std::max({check.chartDiscrepancy, check.knotRouteDiscrepancy, check.bezierDiscrepancy});
+  // A closed T-mesh without T-junctions is a partition of unity away from the vertices without
+  // function (around extraordinary points); elsewhere the rational normalization is reported.
+  bool noTJunctions = true;
+  for (std::size_t v = 0; v < model.tmesh.onBoundary.size(); ++v)
+    noTJunctions = noTJunctions && !model.tmesh.onBoundary[v];
+  for (const auto& face : model.tmesh.faces)
+    noTJunctions = noTJunctions && face.vertices.size() == 4;
+  const bool passed =
+      discrepancy <= 1e-12 && (!noTJunctions || check.partitionOfUnityErrorAway <= 1e-12);
+  Json report{{"file", a.model},
+              {"kind", "tspline"},
+              {"samples", check.samples},
+              {"max_chart_discrepancy", discrepancy},
+              {"edge_chart_discrepancy", check.chartDiscrepancy},
+              {"edge_samples", check.edgeSamples},
+              {"knot_route_discrepancy", check.knotRouteDiscrepancy},
+              {"bezier_discrepancy", check.bezierDiscrepancy},
+              {"bezier_derivative_discrepancy", check.bezierDerivativeDiscrepancy},
+              {"partition_of_unity_error", check.partitionOfUnityError},
+              {"normalized_samples", check.normalizedSamples},
+              {"partition_of_unity_error_away_from_holes", check.partitionOfUnityErrorAway},
+              {"samples_away_from_holes", check.awaySamples},
+              {"partition_of_unity_required", noTJunctions},
+              {"hole_samples", check.holeSamples},
+              {"min_denominator", check.minDenominator},
+              {"control_points", space.numBasis()},
+              {"missing_anchors", space.missingAnchors().size()},
+              {"degree", 3},
+              {"passed", passed},
+              {"seconds", seconds}};
+  if (command.json) {
+    printJson(report);
+  } else {
+    std::cout << check.samples << " samples: chart discrepancy " << discrepancy
+              << " of the diagonal, partition of unity " << check.partitionOfUnityError << " ("
+              << check.normalizedSamples << " samples normalized, " << check.holeSamples
+              << " in holes)" << (passed ? "" : "  FAILED") << std::endl;
+  }
+  return passed ? int(kExitSuccess) : int(kExitComputationFailed);
 }
 
 }  // namespace
@@ -65,6 +119,7 @@ void addCheckCommand(CLI::App& app, Command& command) {
       const CheckArguments& a = *arguments;
       Stopwatch clock;
       const spline::SplineModel model = io::readSplineModel(a.model);
+      if (model.kind == spline::SplineKind::TSpline) return checkTSplineModel(a, model, command);
       const spline::TriBSplineSpace space(model.domain, model.knots);
       if (model.controlPoints.rows() != space.numBasis())
         throw InputError(a.model + ": " + std::to_string(model.controlPoints.rows()) +

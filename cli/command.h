@@ -38,6 +38,7 @@ void addPictureCommand(CLI::App& app, Command& command);
 void addSplineCommand(CLI::App& app, Command& command);
 void addCheckCommand(CLI::App& app, Command& command);
 void addExportCommand(CLI::App& app, Command& command);
+void addCompareOsdCommand(CLI::App& app, Command& command);
 
 /// Prints one JSON object on stdout.
 void printJson(const Json& object);

@@ -63,6 +63,7 @@ int main(int argc, char** argv) {
   addSplineCommand(app, command);
   addCheckCommand(app, command);
   addExportCommand(app, command);
+  addCompareOsdCommand(app, command);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

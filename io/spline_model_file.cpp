@@ -1,27 +1,31 @@
 #include "io/spline_model_file.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
 #include <string_view>
+#include <utility>
 
 #include "io/atomic_file.h"
 #include "io/byte_order.h"
 #include "io/output_buffer.h"
 #include "io/whole_file.h"
+#include "spline/tspline.h"
 #include "structure/errors.h"
 
 namespace mspline::io {
 
 namespace {
 
+using spline::SplineKind;
 using spline::SplineModel;
 using structure::InputError;
 
 constexpr std::string_view kMagic("MSPLINE\x1A", 8);
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersion = 2;
 // The model indexes with int.
 constexpr std::uint64_t kMaxCount = std::numeric_limits<std::int32_t>::max();
 
@@ -32,6 +36,9 @@ constexpr std::uint64_t kLocationBytes = 4 + 3 * 8;
 constexpr std::uint64_t kDomainVertexBytes = 1 + 4;
 constexpr std::uint64_t kDomainFaceBytes = 3 * 4 + 3 * 8 + 3 * 4 + 3;
 constexpr std::uint64_t kPointBytes = 2 * 8;
+constexpr std::uint64_t kTMeshFaceBytes = 4;  // the count; its boundary vertices are checked apart
+constexpr std::uint64_t kTMeshCornerBytes = 4 + 2 * 8;
+constexpr std::uint64_t kTMeshPointBytes = 4 + 2 * 8;
 
 [[noreturn]] void fail(const std::string& problem) {
   throw InputError(problem);
@@ -58,16 +65,46 @@ void requireCount(std::size_t count, const char* what) {
     fail(str(count) + " " + what + " are more than the format holds (2^31 - 1)");
 }
 
-// Everything the reader checks, so that the writer never writes a file the reader rejects.
-// Throws InputError naming the first problem.
-void checkModel(const SplineModel& model) {
-  if (model.kind != spline::SplineKind::TriangularBSpline)
-    fail("unknown spline kind " + std::to_string(int(model.kind)));
+// Data of the other kind would not be written, so a loaded model would differ from the saved one.
+void requireNone(std::size_t count, const char* what, const char* kind) {
+  if (count != 0)
+    fail("a " + std::string(kind) + " model has " + str(count) + " " + what +
+         ", which its part of the format does not hold");
+}
+
+void checkControlPoints(const Eigen::MatrixXd& control) {
+  requireCount(std::size_t(control.rows()), "control points");
+  requireCount(std::size_t(control.cols()), "control point coordinates");
+  for (Eigen::Index r = 0; r < control.rows(); ++r)
+    for (Eigen::Index k = 0; k < control.cols(); ++k)
+      requireFinite(control(r, k),
+                    [&] { return "coordinate " + str(k) + " of control point " + str(r); });
+}
+
+void checkCommon(const SplineModel& model) {
+  const std::size_t vertices = std::size_t(model.surfaceVertices.rows());
+  requireCount(vertices, "surface vertices");
+  requireCount(model.surfaceFaces.size(), "surface faces");
+  for (std::size_t v = 0; v < vertices; ++v)
+    for (int k = 0; k < 3; ++k)
+      requireFinite(model.surfaceVertices(Eigen::Index(v), k),
+                    [&] { return "coordinate " + str(k) + " of surface vertex " + str(v); });
+  for (std::size_t f = 0; f < model.surfaceFaces.size(); ++f)
+    for (int v : model.surfaceFaces[f])
+      requireIndex(
+          v, vertices, [&] { return "surface face " + str(f) + " has vertex"; },
+          "surface vertices");
+}
+
+void checkTriangularBSpline(const SplineModel& model) {
+  const char* kind = "triangular B-spline";
+  requireNone(std::size_t(model.tmesh.numVertices), "T-mesh vertices", kind);
+  requireNone(model.tmesh.faces.size(), "T-mesh faces", kind);
+  requireNone(model.surfaceVertexTMeshPoints.size(), "surface vertex T-mesh points", kind);
+  requireNone(std::size_t(model.weights.size()), "weights", kind);
   const spline::SplineDomain& domain = model.domain;
   const std::size_t vertices = std::size_t(model.surfaceVertices.rows());
   const std::size_t faces = domain.faces.size();
-  requireCount(vertices, "surface vertices");
-  requireCount(model.surfaceFaces.size(), "surface faces");
   requireCount(domain.cone.size(), "domain vertices");
   requireCount(faces, "domain faces");
   if (model.surfaceVertexLocations.size() != vertices)
@@ -94,13 +131,8 @@ void checkModel(const SplineModel& model) {
   if (rows % perFace != 0 || rows / perFace != faces)
     fail(str(rows) + " control points, but " + str(faces) + " domain faces of degree " +
          std::to_string(model.degree) + " have " + str(perFace) + " basis functions each");
-  requireCount(rows, "control points");
-  requireCount(std::size_t(model.controlPoints.cols()), "control point coordinates");
 
   for (std::size_t v = 0; v < vertices; ++v) {
-    for (int k = 0; k < 3; ++k)
-      requireFinite(model.surfaceVertices(Eigen::Index(v), k),
-                    [&] { return "coordinate " + str(k) + " of surface vertex " + str(v); });
     const spline::DomainPoint& location = model.surfaceVertexLocations[v];
     requireIndex(
         location.face, faces, [&] { return "surface vertex " + str(v) + " lies in face"; },
@@ -110,11 +142,6 @@ void checkModel(const SplineModel& model) {
         return "barycentric coordinate " + str(k) + " of surface vertex " + str(v);
       });
   }
-  for (std::size_t f = 0; f < model.surfaceFaces.size(); ++f)
-    for (int v : model.surfaceFaces[f])
-      requireIndex(
-          v, vertices, [&] { return "surface face " + str(f) + " has vertex"; },
-          "surface vertices");
   for (std::size_t d = 0; d < domain.cone.size(); ++d) {
     const auto flag = static_cast<unsigned char>(domain.cone[d]);
     if (flag > 1)
@@ -135,11 +162,89 @@ void checkModel(const SplineModel& model) {
             return "coordinate " + str(k) + " of knot " + str(b) + " of corner " + str(c) +
                    " of domain face " + str(f);
           });
-  for (Eigen::Index r = 0; r < model.controlPoints.rows(); ++r)
-    for (Eigen::Index k = 0; k < model.controlPoints.cols(); ++k)
-      requireFinite(model.controlPoints(r, k),
-                    [&] { return "coordinate " + str(k) + " of control point " + str(r); });
+  checkControlPoints(model.controlPoints);
   spline::validateDomain(domain);
+}
+
+// Returns the T-mesh as spline::buildTMesh completes it (widths, heights, twins).
+spline::TMesh checkTSpline(const SplineModel& model) {
+  const char* kind = "T-spline";
+  requireNone(model.surfaceVertexLocations.size(), "surface vertex locations", kind);
+  requireNone(model.domain.cone.size(), "domain vertices", kind);
+  requireNone(model.domain.faces.size(), "domain faces", kind);
+  requireNone(model.domainVertexSource.size(), "source surface vertices", kind);
+  requireNone(model.knots.size(), "faces of knots", kind);
+  if (model.degree != 3)
+    fail("degree " + std::to_string(model.degree) + ", but T-splines are cubic (degree 3)");
+  const std::size_t vertices = std::size_t(model.surfaceVertices.rows());
+  if (model.surfaceVertexTMeshPoints.size() != vertices)
+    fail(str(model.surfaceVertexTMeshPoints.size()) + " surface vertex T-mesh points for " +
+         str(vertices) + " surface vertices");
+  requireCount(model.tmesh.faces.size(), "T-mesh faces");
+  for (const spline::TMeshFace& face : model.tmesh.faces)
+    requireCount(face.vertices.size(), "T-mesh face vertices");
+  spline::TMesh mesh;
+  try {
+    mesh = spline::buildTMesh(model.tmesh.numVertices, model.tmesh.faces);
+  } catch (const InputError& error) {
+    fail(std::string("invalid T-mesh: ") + error.what());
+  }
+
+  for (std::size_t v = 0; v < vertices; ++v) {
+    const spline::TMeshPoint& point = model.surfaceVertexTMeshPoints[v];
+    requireIndex(
+        point.face, mesh.faces.size(),
+        [&] { return "surface vertex " + str(v) + " lies in T-mesh face"; }, "T-mesh faces");
+    for (int k = 0; k < 2; ++k)
+      requireFinite(point.position(k), [&] {
+        return "coordinate " + str(k) + " of the T-mesh point of surface vertex " + str(v);
+      });
+    const spline::TMeshFace& face = mesh.faces[std::size_t(point.face)];
+    const double tolerance = 1e-9 * std::max(face.width, face.height);
+    const Eigen::Vector2d& p = point.position;
+    if (!(p.x() >= -tolerance && p.x() <= face.width + tolerance && p.y() >= -tolerance &&
+          p.y() <= face.height + tolerance))
+      fail("surface vertex " + str(v) + " lies at (" + std::to_string(p.x()) + ", " +
+           std::to_string(p.y()) + "), outside T-mesh face " + str(std::size_t(point.face)) +
+           " ([0, " + std::to_string(face.width) + "] x [0, " + std::to_string(face.height) + "])");
+  }
+  const auto weights = std::size_t(model.weights.size());
+  const auto rows = std::size_t(model.controlPoints.rows());
+  requireCount(weights, "weights");
+  if (weights != rows) fail(str(weights) + " weights for " + str(rows) + " control points");
+  if (model.controlPoints.cols() != 3)
+    fail("control points have " + str(std::size_t(model.controlPoints.cols())) +
+         " coordinates, T-splines need 3");
+  for (std::size_t i = 0; i < weights; ++i) {
+    const double weight = model.weights(Eigen::Index(i));
+    if (!(weight > 0.0 && std::isfinite(weight)))
+      fail("weight " + str(i) + " is " + std::to_string(weight) + ", not a positive finite number");
+  }
+  checkControlPoints(model.controlPoints);
+  std::size_t basis = 0;
+  try {
+    basis = std::size_t(spline::TSplineSpace(mesh).numBasis());
+  } catch (const InputError& error) {
+    fail(std::string("invalid T-mesh: ") + error.what());
+  }
+  if (rows != basis)
+    fail(str(rows) + " control points, but the T-mesh has " + str(basis) + " blending functions");
+  return mesh;
+}
+
+// Everything the reader checks, so that the writer never writes a file the reader rejects.
+// Throws InputError naming the first problem. Returns the completed T-mesh of a T-spline (empty
+// for other kinds), so that the reader builds it once.
+spline::TMesh checkModel(const SplineModel& model) {
+  checkCommon(model);
+  switch (model.kind) {
+    case SplineKind::TriangularBSpline:
+      checkTriangularBSpline(model);
+      return {};
+    case SplineKind::TSpline:
+      return checkTSpline(model);
+  }
+  fail("unknown spline kind " + std::to_string(int(model.kind)));
 }
 
 // A cursor over the file's bytes that knows which section it is in, for the messages.
@@ -189,101 +294,11 @@ class ModelReader {
   std::string section_;
 };
 
-}  // namespace
-
-void writeSplineModel(const std::string& path, const SplineModel& model) {
-  try {
-    checkModel(model);
-  } catch (const InputError& error) {
-    throw InputError("cannot write '" + path + "': " + error.what());
-  }
-  writeFileAtomically(path, [&](std::ostream& out) {
-    detail::OutputBuffer buffer(out);
-    const auto u8 = [&](int value) { buffer.littleEndian(std::uint8_t(value)); };
-    const auto u32 = [&](std::size_t value) { buffer.littleEndian(std::uint32_t(value)); };
-    const auto i32 = [&](int value) { buffer.littleEndian(std::int32_t(value)); };
-    const auto f64 = [&](double value) { buffer.littleEndian(value); };
-    buffer.text(kMagic);
-    u32(kVersion);
-    u32(std::size_t(model.kind));
-
-    const auto& vertices = model.surfaceVertices;
-    u32(std::size_t(vertices.rows()));
-    for (Eigen::Index v = 0; v < vertices.rows(); ++v)
-      for (int k = 0; k < 3; ++k) f64(vertices(v, k));
-    u32(model.surfaceFaces.size());
-    for (const auto& face : model.surfaceFaces)
-      for (int v : face) i32(v);
-    for (const auto& location : model.surfaceVertexLocations) {
-      i32(location.face);
-      for (int k = 0; k < 3; ++k) f64(location.barycentric(k));
-    }
-
-    const auto& domain = model.domain;
-    u32(domain.cone.size());
-    for (std::size_t d = 0; d < domain.cone.size(); ++d) {
-      u8(domain.cone[d]);
-      i32(model.domainVertexSource[d]);
-    }
-    u32(domain.faces.size());
-    for (std::size_t f = 0; f < domain.faces.size(); ++f) {
-      for (int corner : domain.faces[f]) i32(corner);
-      for (double length : domain.sideLengths[f]) f64(length);
-      for (int neighbour : domain.neighbour[f]) i32(neighbour);
-      for (int side : domain.neighbourSide[f]) u8(side);
-    }
-
-    i32(model.degree);
-    for (const auto& face : model.knots)
-      for (const auto& corner : face)
-        for (const auto& knot : corner) {
-          f64(knot.x());
-          f64(knot.y());
-        }
-    const auto& control = model.controlPoints;
-    u32(std::size_t(control.rows()));
-    u32(std::size_t(control.cols()));
-    for (Eigen::Index r = 0; r < control.rows(); ++r)
-      for (Eigen::Index k = 0; k < control.cols(); ++k) f64(control(r, k));
-    buffer.flush();
-  });
-}
-
-SplineModel readSplineModel(const std::string& path) {
-  const std::string data = readWholeFile(path);
-  ModelReader in(data, path);
-  SplineModel model;
-
-  in.section("header");
-  if (data.empty()) in.fail("the file is empty, not an .msp spline model");
-  const std::string_view start = std::string_view(data).substr(0, kMagic.size());
-  if (start != kMagic.substr(0, start.size()))
-    in.fail("not an .msp spline model (it does not start with the MSPLINE magic)");
-  in.bytes(kMagic.size());
-  const std::uint32_t version = in.value<std::uint32_t>();
-  if (version != kVersion)
-    in.fail("unsupported format version " + str(version) + " (this mspline reads version " +
-            str(kVersion) + ")");
-  const std::uint32_t kind = in.value<std::uint32_t>();
-  if (kind != std::uint32_t(spline::SplineKind::TriangularBSpline))
-    in.fail("unsupported spline kind " + str(kind) + " (version " + str(kVersion) +
-            " knows kind 1, triangular B-spline)");
-  model.kind = spline::SplineKind(kind);
-
-  in.section("surface vertices");
-  const int vertices = in.count(kVertexBytes, "surface vertices");
-  model.surfaceVertices.resize(vertices, 3);
-  for (int v = 0; v < vertices; ++v)
-    for (int k = 0; k < 3; ++k) model.surfaceVertices(v, k) = in.value<double>();
-
-  in.section("surface faces");
-  model.surfaceFaces.resize(std::size_t(in.count(kFaceBytes, "surface faces")));
-  for (auto& face : model.surfaceFaces)
-    for (int& v : face) v = in.value<std::int32_t>();
-
+void readTriangularBSpline(ModelReader& in, SplineModel& model) {
   in.section("surface vertex locations");
+  const auto vertices = std::size_t(model.surfaceVertices.rows());
   in.requireFit(vertices, kLocationBytes, str(vertices) + " locations");
-  model.surfaceVertexLocations.resize(std::size_t(vertices));
+  model.surfaceVertexLocations.resize(vertices);
   for (auto& location : model.surfaceVertexLocations) {
     location.face = in.value<std::int32_t>();
     for (int k = 0; k < 3; ++k) location.barycentric(k) = in.value<double>();
@@ -328,6 +343,182 @@ SplineModel readSplineModel(const std::string& path) {
         knot.y() = in.value<double>();
       }
     }
+}
+
+void readTSpline(ModelReader& in, SplineModel& model) {
+  in.section("T-mesh");
+  spline::TMesh& mesh = model.tmesh;
+  mesh.numVertices = in.count(0, "vertices");
+  mesh.faces.resize(std::size_t(in.count(kTMeshFaceBytes, "faces")));
+  std::uint64_t corners = 0;
+  for (spline::TMeshFace& face : mesh.faces) {
+    const auto n = std::size_t(in.count(kTMeshCornerBytes, "boundary vertices of a face"));
+    corners += n;
+    face.vertices.resize(n);
+    face.positions.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      face.vertices[k] = in.value<std::int32_t>();
+      face.positions[k].x() = in.value<double>();
+      face.positions[k].y() = in.value<double>();
+    }
+  }
+  // Every vertex is on some face (buildTMesh checks it): a corrupt count must not allocate.
+  if (std::uint64_t(mesh.numVertices) > corners)
+    in.fail("the T-mesh declares " + str(std::size_t(mesh.numVertices)) +
+            " vertices, but its faces have only " + str(corners) + " boundary vertices in all");
+
+  in.section("surface vertex T-mesh points");
+  const auto vertices = std::size_t(model.surfaceVertices.rows());
+  in.requireFit(vertices, kTMeshPointBytes, str(vertices) + " points");
+  model.surfaceVertexTMeshPoints.resize(vertices);
+  for (spline::TMeshPoint& point : model.surfaceVertexTMeshPoints) {
+    point.face = in.value<std::int32_t>();
+    point.position.x() = in.value<double>();
+    point.position.y() = in.value<double>();
+  }
+
+  in.section("weights");
+  model.weights.resize(in.count(8, "weights"));
+  for (Eigen::Index i = 0; i < model.weights.size(); ++i) model.weights(i) = in.value<double>();
+}
+
+// Sequential little-endian output of the sections.
+class ModelWriter {
+ public:
+  explicit ModelWriter(std::ostream& out) : buffer_(out) {}
+  void text(std::string_view s) { buffer_.text(s); }
+  void u8(int value) { buffer_.littleEndian(std::uint8_t(value)); }
+  void u32(std::size_t value) { buffer_.littleEndian(std::uint32_t(value)); }
+  void i32(int value) { buffer_.littleEndian(std::int32_t(value)); }
+  void f64(double value) { buffer_.littleEndian(value); }
+  void flush() { buffer_.flush(); }
+
+ private:
+  detail::OutputBuffer buffer_;
+};
+
+void writeTriangularBSpline(ModelWriter& out, const SplineModel& model) {
+  for (const auto& location : model.surfaceVertexLocations) {
+    out.i32(location.face);
+    for (int k = 0; k < 3; ++k) out.f64(location.barycentric(k));
+  }
+  const auto& domain = model.domain;
+  out.u32(domain.cone.size());
+  for (std::size_t d = 0; d < domain.cone.size(); ++d) {
+    out.u8(domain.cone[d]);
+    out.i32(model.domainVertexSource[d]);
+  }
+  out.u32(domain.faces.size());
+  for (std::size_t f = 0; f < domain.faces.size(); ++f) {
+    for (int corner : domain.faces[f]) out.i32(corner);
+    for (double length : domain.sideLengths[f]) out.f64(length);
+    for (int neighbour : domain.neighbour[f]) out.i32(neighbour);
+    for (int side : domain.neighbourSide[f]) out.u8(side);
+  }
+  out.i32(model.degree);
+  for (const auto& face : model.knots)
+    for (const auto& corner : face)
+      for (const auto& knot : corner) {
+        out.f64(knot.x());
+        out.f64(knot.y());
+      }
+}
+
+void writeTSpline(ModelWriter& out, const SplineModel& model) {
+  out.u32(std::size_t(model.tmesh.numVertices));
+  out.u32(model.tmesh.faces.size());
+  for (const spline::TMeshFace& face : model.tmesh.faces) {
+    out.u32(face.vertices.size());
+    for (std::size_t k = 0; k < face.vertices.size(); ++k) {
+      out.i32(face.vertices[k]);
+      out.f64(face.positions[k].x());
+      out.f64(face.positions[k].y());
+    }
+  }
+  for (const spline::TMeshPoint& point : model.surfaceVertexTMeshPoints) {
+    out.i32(point.face);
+    out.f64(point.position.x());
+    out.f64(point.position.y());
+  }
+  out.u32(std::size_t(model.weights.size()));
+  for (Eigen::Index i = 0; i < model.weights.size(); ++i) out.f64(model.weights(i));
+}
+
+}  // namespace
+
+void writeSplineModel(const std::string& path, const SplineModel& model) {
+  try {
+    checkModel(model);
+  } catch (const InputError& error) {
+    throw InputError("cannot write '" + path + "': " + error.what());
+  }
+  writeFileAtomically(path, [&](std::ostream& stream) {
+    ModelWriter out(stream);
+    out.text(kMagic);
+    out.u32(kVersion);
+    out.u32(std::size_t(model.kind));
+
+    const auto& vertices = model.surfaceVertices;
+    out.u32(std::size_t(vertices.rows()));
+    for (Eigen::Index v = 0; v < vertices.rows(); ++v)
+      for (int k = 0; k < 3; ++k) out.f64(vertices(v, k));
+    out.u32(model.surfaceFaces.size());
+    for (const auto& face : model.surfaceFaces)
+      for (int v : face) out.i32(v);
+
+    if (model.kind == SplineKind::TriangularBSpline)
+      writeTriangularBSpline(out, model);
+    else
+      writeTSpline(out, model);
+
+    const auto& control = model.controlPoints;
+    out.u32(std::size_t(control.rows()));
+    out.u32(std::size_t(control.cols()));
+    for (Eigen::Index r = 0; r < control.rows(); ++r)
+      for (Eigen::Index k = 0; k < control.cols(); ++k) out.f64(control(r, k));
+    out.flush();
+  });
+}
+
+SplineModel readSplineModel(const std::string& path) {
+  const std::string data = readWholeFile(path);
+  ModelReader in(data, path);
+  SplineModel model;
+
+  in.section("header");
+  if (data.empty()) in.fail("the file is empty, not an .msp spline model");
+  const std::string_view start = std::string_view(data).substr(0, kMagic.size());
+  if (start != kMagic.substr(0, start.size()))
+    in.fail("not an .msp spline model (it does not start with the MSPLINE magic)");
+  in.bytes(kMagic.size());
+  const std::uint32_t version = in.value<std::uint32_t>();
+  if (version < 1 || version > kVersion)
+    in.fail("unsupported format version " + str(version) + " (this mspline reads versions 1 to " +
+            str(kVersion) + ")");
+  const std::uint32_t kind = in.value<std::uint32_t>();
+  // Version 1 knew kind 1 only; version 2 added kind 2.
+  const std::uint32_t lastKind = version == 1 ? 1 : 2;
+  if (kind < 1 || kind > lastKind)
+    in.fail("unsupported spline kind " + str(kind) + " (format version " + str(version) +
+            (version == 1 ? " knows kind 1, triangular B-spline)"
+                          : " knows kind 1, triangular B-spline, and kind 2, T-spline)"));
+  model.kind = SplineKind(kind);
+
+  in.section("surface vertices");
+  const int vertices = in.count(kVertexBytes, "surface vertices");
+  model.surfaceVertices.resize(vertices, 3);
+  for (int v = 0; v < vertices; ++v)
+    for (int k = 0; k < 3; ++k) model.surfaceVertices(v, k) = in.value<double>();
+
+  in.section("surface faces");
+  model.surfaceFaces.resize(std::size_t(in.count(kFaceBytes, "surface faces")));
+  for (auto& face : model.surfaceFaces)
+    for (int& v : face) v = in.value<std::int32_t>();
+
+  if (model.kind == SplineKind::TriangularBSpline)
+    readTriangularBSpline(in, model);
+  else
+    readTSpline(in, model);
 
   in.section("control points");
   const std::uint64_t rows = in.value<std::uint32_t>();
@@ -344,7 +535,8 @@ SplineModel readSplineModel(const std::string& path) {
   if (in.remaining() != 0)
     in.fail("the file goes on for " + str(in.remaining()) + " bytes after the last section");
   try {
-    checkModel(model);
+    spline::TMesh mesh = checkModel(model);
+    if (model.kind == SplineKind::TSpline) model.tmesh = std::move(mesh);
   } catch (const InputError& error) {
     in.fail(error.what());
   }

@@ -10,30 +10,49 @@
 //
 //   header (16 bytes)
 //     u8[8]  magic: "MSPLINE" then 0x1A (a control byte: a text file never starts like this)
-//     u32    format version: 1
-//     u32    kind: 1 = triangular B-spline (spline::SplineKind)
+//     u32    format version: 2 (version 1 is read too, see below)
+//     u32    kind: 1 = triangular B-spline, 2 = T-spline (spline::SplineKind)
 //   common part (every kind)
 //     surface vertices         u32 V; V times f64 x, y, z
 //     surface faces            u32 F; F times i32 a, b, c (surface vertices, counter-clockwise)
+//   kind 1 part: triangular B-spline
 //     surface vertex locations V times i32 domain face, f64 b0, b1, b2 (barycentric)
 //     domain vertices          u32 N; N times u8 cone (0 or 1), i32 source surface vertex
 //     domain faces             u32 M; M times i32 corner[3], f64 side length[3],
 //                              i32 neighbour[3] (domain faces), u8 neighbour side[3] (0 to 2)
-//   kind 1 part
 //     degree                   i32 n (at least 1)
 //     knots                    M faces times 3 corners times n + 1 points f64 x, y
 //     control points           u32 rows (M (n + 1)(n + 2) / 2), u32 columns, then
 //                              rows times columns f64, row-major
+//   kind 2 part: cubic T-spline (spline/tspline.h; the degree is 3 and not stored)
+//     T-mesh                   u32 vertex count, u32 face count; per face u32 k (at least 4),
+//                              then k times i32 vertex, f64 x, y: its boundary counter-clockwise
+//                              from the corner (0, 0), positions in the face's frame (what
+//                              spline::buildTMesh takes and must accept)
+//     surface vertex T-mesh points
+//                              V times i32 T-mesh face, f64 x, y (inside that face's rectangle,
+//                              to 1e-9 of its size)
+//     weights                  u32 W; W times f64 (positive)
+//     control points           u32 rows, u32 columns (3), then rows times columns f64,
+//                              row-major; rows = W = the blending functions of
+//                              spline::TSplineSpace(T-mesh), one per row in the order of its
+//                              anchors
 //
-// Nothing may follow the last section. Field meanings are those of SplineModel and SplineDomain
-// (side k of a domain face joins corners k and k + 1; knots in the face's home frame).
+// Nothing may follow the last section. Field meanings are those of SplineModel, SplineDomain and
+// TMesh (side k of a domain face joins corners k and k + 1; knots in the face's home frame). A
+// model holds only its own kind's fields: the writer refuses one with data of the other kind.
+//
+// Version 1 knew only kind 1 and counted its first three sections to the common part; since they
+// come right after the surface faces, a version 1 file holds the same bytes as the version 2 file
+// of the same model but for the version number. Readers read both; the writer writes version 2.
 //
 // Extending the format: the header and the common part are the same for every kind, and the
-// kind-specific part comes last. A new kind (issue 6: T-splines) takes the next kind number and
-// defines its own part after the common part; readers reject kinds they do not know, naming the
-// number. Any change to the header, the common part or an existing kind's part takes the next
-// format version; a reader reads every version up to its own and rejects newer ones, naming both.
-// Since nothing may follow the last section, an old reader never silently drops data.
+// kind-specific part comes last. A new kind takes the next kind number and defines its own part
+// after the common part; readers reject kinds they do not know, naming the number (and the
+// version, which tells the kinds it knows). Any change to the header, the common part or an
+// existing kind's part takes the next format version; a reader reads every version up to its own
+// and rejects newer ones, naming both. Since nothing may follow the last section, an old reader
+// never silently drops data.
 #include <string>
 
 #include "spline/spline_model.h"
@@ -41,14 +60,17 @@
 namespace mspline::io {
 
 /// Writes atomically. InputError when the model is one the reader would reject (sizes that
-/// disagree, an index out of range, a non-finite number, an inconsistent domain), and then no
-/// file is written; IoError when the file cannot be written.
+/// disagree, an index out of range, a non-finite number, an inconsistent domain, a T-mesh that
+/// spline::buildTMesh rejects, a weight that is not positive, data of the other kind), and then
+/// no file is written; IoError when the file cannot be written.
 void writeSplineModel(const std::string& path, const spline::SplineModel& model);
 
 /// Reads and checks a spline model file: InputError naming the file and the problem when it is
 /// not a valid one (not an .msp file, an unsupported version or kind, truncated in a section,
 /// counts that do not match, an index out of range, a non-finite number, a domain that
-/// spline::validateDomain rejects, bytes after the end); IoError when it cannot be read.
+/// spline::validateDomain or a T-mesh that spline::buildTMesh rejects, a T-mesh point outside its
+/// face, a weight that is not positive, bytes after the end); IoError when it cannot be read. A
+/// T-spline's tmesh comes back completed by buildTMesh.
 spline::SplineModel readSplineModel(const std::string& path);
 
 }  // namespace mspline::io

@@ -6,11 +6,13 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <numeric>
 #include <random>
 #include <string>
 
 #include "io/byte_order.h"
 #include "spline/dms_spline.h"
+#include "spline/tspline.h"
 #include "structure/errors.h"
 #include "support/test_data.h"
 #include "support/test_meshes.h"
@@ -109,6 +111,71 @@ struct Layout {
   static constexpr std::size_t controlPoints = knots + faces * 3 * (kDegree + 1) * 16;
   static constexpr std::size_t rows = faces * (kDegree + 1) * (kDegree + 2) / 2;
   static constexpr std::size_t size = controlPoints + 8 + rows * 3 * 8;
+};
+
+// The periodic grid gridTMesh(0..6, 0..5): a torus of 6 x 5 unit cells, 30 vertices and faces.
+constexpr int kColumns = 6, kRows = 5;
+
+// A torus sampled at the grid's vertices (two triangles per cell) on the T-spline of
+// gridTMesh(0..6, 0..5, periodic both ways) with random control points and weights, and doubles
+// that only survive a bit-exact format in every section.
+SplineModel tsplineModel() {
+  SplineModel model;
+  model.kind = spline::SplineKind::TSpline;
+  std::vector<double> xKnots(kColumns + 1), yKnots(kRows + 1);
+  std::iota(xKnots.begin(), xKnots.end(), 0.0);
+  std::iota(yKnots.begin(), yKnots.end(), 0.0);
+  model.tmesh = spline::gridTMesh(xKnots, yKnots, true, true);
+  const int vertices = kColumns * kRows;
+  const auto id = [](int i, int j) { return (j % kRows) * kColumns + i % kColumns; };
+  model.surfaceVertices.resize(vertices, 3);
+  for (int j = 0; j < kRows; ++j)
+    for (int i = 0; i < kColumns; ++i) {
+      const double a = 2 * std::acos(-1.0) * i / kColumns, b = 2 * std::acos(-1.0) * j / kRows;
+      model.surfaceVertices.row(id(i, j)) << (1 + 0.4 * std::cos(b)) * std::cos(a),
+          (1 + 0.4 * std::cos(b)) * std::sin(a), 0.4 * std::sin(b);
+      model.surfaceFaces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      model.surfaceFaces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+      // Even vertices as the corner (0, 0) of the cell above and right of them, odd ones as the
+      // corner (1, 1) of the cell below and left (face ids are vertex ids of corner (0, 0)).
+      if (id(i, j) % 2 == 0)
+        model.surfaceVertexTMeshPoints.push_back({id(i, j), Eigen::Vector2d(0.0, 0.0)});
+      else
+        model.surfaceVertexTMeshPoints.push_back(
+            {id(i + kColumns - 1, j + kRows - 1), Eigen::Vector2d(1.0, 1.0)});
+    }
+  model.surfaceVertices(0, 0) = -0.0;
+  model.surfaceVertices(1, 1) = kDenormMin;
+  model.surfaceVertices(3, 0) = 1e300;
+  model.surfaceVertexTMeshPoints[0].position << -0.0, kDenormMin;
+
+  const int basis = spline::TSplineSpace(model.tmesh).numBasis();
+  std::mt19937_64 random(11);
+  std::uniform_real_distribution<double> coordinate(-1.0, 1.0), weight(0.5, 2.0);
+  model.weights.resize(basis);
+  for (int i = 0; i < basis; ++i) model.weights(i) = weight(random);
+  model.weights(3) = 0.1;
+  model.weights(4) = kDenormMin;
+  model.controlPoints.resize(basis, 3);
+  for (int r = 0; r < basis; ++r)
+    for (int c = 0; c < 3; ++c) model.controlPoints(r, c) = coordinate(random);
+  model.controlPoints(0, 0) = -0.0;
+  model.controlPoints(1, 1) = kDenormMin;
+  model.controlPoints(2, 2) = 0.1;
+  return model;
+}
+
+// Byte offsets of the sections of tsplineModel()'s file.
+struct TLayout {
+  static constexpr std::size_t vertices = kColumns * kRows, faces = 2 * vertices;
+  static constexpr std::size_t surfaceFaces = 16 + 4 + 24 * vertices;
+  static constexpr std::size_t tmesh = surfaceFaces + 4 + 12 * faces;
+  static constexpr std::size_t tmeshFaces = tmesh + 8;  // face f at tmeshFaces + faceBytes * f
+  static constexpr std::size_t faceBytes = 4 + 4 * 20;
+  static constexpr std::size_t points = tmeshFaces + vertices * faceBytes;
+  static constexpr std::size_t weights = points + 20 * vertices;
+  static constexpr std::size_t controlPoints = weights + 4 + 8 * vertices;
+  static constexpr std::size_t size = controlPoints + 8 + 24 * vertices;
 };
 
 template <typename T>
@@ -245,8 +312,13 @@ TEST_CASE("spline_model_file: corrupt files are input errors naming the file and
   expect("empty.msp", "", "the file is empty");
   expect("text.msp", "# not a model\n", "not an .msp spline model");
   expect("magic.msp", patched(good, 7, std::uint8_t('\n')), "not an .msp spline model");
-  expect("version.msp", patched(good, 8, std::uint32_t(2)), "unsupported format version 2");
-  expect("kind.msp", patched(good, 12, std::uint32_t(2)), "unsupported spline kind 2");
+  expect("version.msp", patched(good, 8, std::uint32_t(3)),
+         "unsupported format version 3 (this mspline reads versions 1 to 2)");
+  expect("version0.msp", patched(good, 8, std::uint32_t(0)), "unsupported format version 0");
+  expect("kind.msp", patched(good, 12, std::uint32_t(3)), "unsupported spline kind 3");
+  expect("kind0.msp", patched(good, 12, std::uint32_t(0)), "unsupported spline kind 0");
+  // Read as a T-spline, the triangular B-spline's bytes do not make one.
+  expect("kind2.msp", patched(good, 12, std::uint32_t(2)), "");
   // Counts that do not fit in the file are refused before anything is allocated for them.
   expect("vertices.msp", patched(good, Layout::surfaceVertices, huge),
          "needs 2147483647 surface vertices");
@@ -318,4 +390,264 @@ TEST_CASE("spline_model_file: unreadable and unwritable paths, models the format
   CHECK(test::fileText(path) == before);
   CHECK_FALSE(fs::exists(dir + "/b.msp"));
   CHECK(std::distance(fs::directory_iterator(dir), fs::directory_iterator()) == 1);
+}
+
+TEST_CASE("spline_model_file: a version 1 file reads as the same model", "[io]") {
+  // Version 2 moved the triangular B-spline's sections out of the common part without changing
+  // a byte: a version 1 file is the version 2 file with another version number.
+  const std::string dir = test::scratchDirectory("io_spline_model_file_v1");
+  const SplineModel model = awkwardModel();
+  io::writeSplineModel(dir + "/v2.msp", model);
+  const std::string bytes = test::fileText(dir + "/v2.msp");
+  REQUIRE(bytes.size() == Layout::size);
+  CHECK(io::detail::decode<std::uint32_t>(bytes.data() + 8, false) == 2);
+  writeBytes(dir + "/v1.msp", patched(bytes, 8, std::uint32_t(1)));
+
+  const SplineModel back = io::readSplineModel(dir + "/v1.msp");
+  CHECK(back.kind == spline::SplineKind::TriangularBSpline);
+  CHECK(sameBits(back.surfaceVertices, model.surfaceVertices));
+  CHECK(back.surfaceFaces == model.surfaceFaces);
+  CHECK(back.domain.faces == model.domain.faces);
+  CHECK(back.domainVertexSource == model.domainVertexSource);
+  CHECK(back.degree == kDegree);
+  CHECK(sameBits(back.knots[31][2][1], model.knots[31][2][1]));
+  CHECK(sameBits(back.controlPoints, model.controlPoints));
+  CHECK(back.tmesh.faces.empty());
+  CHECK(back.weights.size() == 0);
+  // Every field: the writer puts all of them in the file, which is the version 2 one.
+  io::writeSplineModel(dir + "/again.msp", back);
+  CHECK(test::fileText(dir + "/again.msp") == bytes);
+}
+
+TEST_CASE("spline_model_file: a T-spline's save, load and save again is lossless", "[io]") {
+  const std::string dir = test::scratchDirectory("io_spline_model_file_tspline");
+  const SplineModel model = tsplineModel();
+  // A periodic grid has no boundary and no extraordinary vertex: a function at every vertex.
+  REQUIRE(model.controlPoints.rows() == kColumns * kRows);
+  io::writeSplineModel(dir + "/a.msp", model);
+  const std::string bytes = test::fileText(dir + "/a.msp");
+  CHECK(bytes.size() == TLayout::size);
+  CHECK(bytes.compare(0, 8, "MSPLINE\x1A") == 0);
+  CHECK(io::detail::decode<std::uint32_t>(bytes.data() + 12, false) == 2);
+
+  const SplineModel back = io::readSplineModel(dir + "/a.msp");
+  CHECK(back.kind == spline::SplineKind::TSpline);
+  CHECK(back.degree == 3);
+  CHECK(sameBits(back.surfaceVertices, model.surfaceVertices));
+  CHECK(back.surfaceFaces == model.surfaceFaces);
+  CHECK(back.surfaceVertexLocations.empty());
+  CHECK(back.knots.empty());
+  CHECK(back.domain.faces.empty());
+  // The T-mesh comes back completed as buildTMesh completes it.
+  CHECK(back.tmesh.numVertices == model.tmesh.numVertices);
+  CHECK(back.tmesh.quarterTurnsAround == model.tmesh.quarterTurnsAround);
+  CHECK(back.tmesh.onBoundary == model.tmesh.onBoundary);
+  REQUIRE(back.tmesh.numFaces() == model.tmesh.numFaces());
+  for (int f = 0; f < model.tmesh.numFaces(); ++f) {
+    const spline::TMeshFace &a = model.tmesh.faces[f], &b = back.tmesh.faces[f];
+    CHECK(b.vertices == a.vertices);
+    CHECK(b.positions == a.positions);
+    CHECK(b.width == a.width);
+    CHECK(b.height == a.height);
+    CHECK(b.twinFace == a.twinFace);
+    CHECK(b.twinEdge == a.twinEdge);
+  }
+  REQUIRE(back.surfaceVertexTMeshPoints.size() == model.surfaceVertexTMeshPoints.size());
+  for (std::size_t v = 0; v < model.surfaceVertexTMeshPoints.size(); ++v) {
+    CHECK(back.surfaceVertexTMeshPoints[v].face == model.surfaceVertexTMeshPoints[v].face);
+    CHECK(sameBits(back.surfaceVertexTMeshPoints[v].position,
+                   model.surfaceVertexTMeshPoints[v].position));
+  }
+  CHECK(std::signbit(back.surfaceVertexTMeshPoints[0].position.x()));
+  CHECK(sameBits(back.weights, model.weights));
+  CHECK(back.weights(4) == kDenormMin);
+  CHECK(sameBits(back.controlPoints, model.controlPoints));
+  CHECK(std::signbit(back.controlPoints(0, 0)));
+
+  io::writeSplineModel(dir + "/b.msp", back);
+  CHECK(test::fileText(dir + "/b.msp") == bytes);
+
+  // The loaded spline evaluates to the same bits at every surface vertex and inside faces.
+  const spline::TSplineSpace before(model.tmesh), after(back.tmesh);
+  std::vector<spline::TMeshPoint> points = model.surfaceVertexTMeshPoints;
+  points.push_back({0, Eigen::Vector2d(0.5, 0.5)});
+  points.push_back({17, Eigen::Vector2d(0.25, 0.75)});
+  points.push_back({29, Eigen::Vector2d(0.9, 0.1)});
+  for (const spline::TMeshPoint& p : points) {
+    INFO("face " << p.face << " at " << p.position.transpose());
+    const auto x = before.evaluate(model.controlPoints, model.weights, p.face, p.position, 2);
+    const auto y = after.evaluate(back.controlPoints, back.weights, p.face, p.position, 2);
+    REQUIRE(x.denominator > 0.0);
+    REQUIRE(x.position.allFinite());
+    CHECK(sameBits(y.denominator, x.denominator));
+    CHECK(sameBits(y.position, x.position));
+    CHECK(sameBits(y.ds, x.ds));
+    CHECK(sameBits(y.dt, x.dt));
+    CHECK(sameBits(y.dss, x.dss));
+    CHECK(sameBits(y.dst, x.dst));
+    CHECK(sameBits(y.dtt, x.dtt));
+  }
+}
+
+TEST_CASE("spline_model_file: every truncation of a T-spline file is an input error", "[io]") {
+  const std::string dir = test::scratchDirectory("io_spline_model_file_tspline_cut");
+  io::writeSplineModel(dir + "/good.msp", tsplineModel());
+  const std::string bytes = test::fileText(dir + "/good.msp");
+  REQUIRE(bytes.size() == TLayout::size);
+  const std::string path = dir + "/cut.msp";
+  for (std::size_t length = 0; length < bytes.size(); ++length) {
+    writeBytes(path, bytes.substr(0, length));
+    const std::string message = inputError(path);
+    INFO("cut at " << length << ": " << message);
+    CHECK(message.find(path) != std::string::npos);
+    CHECK(message.find(length == 0 ? "empty" : "truncated") != std::string::npos);
+  }
+  const auto cutAt = [&](std::size_t length) {
+    writeBytes(path, bytes.substr(0, length));
+    return inputError(path);
+  };
+  CHECK_THAT(cutAt(TLayout::tmesh + 2), Catch::Contains("T-mesh section"));
+  CHECK_THAT(cutAt(TLayout::tmeshFaces + 100), Catch::Contains("T-mesh section"));
+  CHECK_THAT(cutAt(TLayout::points + 30), Catch::Contains("surface vertex T-mesh points section"));
+  CHECK_THAT(cutAt(TLayout::weights + 2), Catch::Contains("weights section"));
+  CHECK_THAT(cutAt(TLayout::weights + 20), Catch::Contains("weights section"));
+  CHECK_THAT(cutAt(TLayout::controlPoints + 6), Catch::Contains("control points section"));
+  CHECK_THAT(cutAt(TLayout::size - 1), Catch::Contains("control points section"));
+}
+
+TEST_CASE("spline_model_file: corrupt T-spline files are input errors naming the problem", "[io]") {
+  const std::string dir = test::scratchDirectory("io_spline_model_file_tspline_bad");
+  io::writeSplineModel(dir + "/good.msp", tsplineModel());
+  const std::string good = test::fileText(dir + "/good.msp");
+  REQUIRE(good.size() == TLayout::size);
+  const auto expect = [&](const std::string& name, const std::string& bytes,
+                          const std::string& words) {
+    const std::string path = dir + "/" + name;
+    writeBytes(path, bytes);
+    const std::string message = inputError(path);
+    INFO(name << ": " << message);
+    CHECK(message.find(path) != std::string::npos);
+    CHECK(message.find(words) != std::string::npos);
+  };
+  const auto nan = std::numeric_limits<double>::quiet_NaN();
+  const auto huge = std::uint32_t(std::numeric_limits<std::int32_t>::max());
+  const std::size_t n = TLayout::vertices;
+  const std::size_t face0 = TLayout::tmeshFaces, point0 = TLayout::points;
+
+  expect("version1.msp", patched(good, 8, std::uint32_t(1)),
+         "unsupported spline kind 2 (format version 1 knows kind 1, triangular B-spline)");
+  expect("kind.msp", patched(good, 12, std::uint32_t(3)),
+         "unsupported spline kind 3 (format version 2 knows kind 1, triangular B-spline, and kind "
+         "2, T-spline)");
+  expect("trailing.msp", good + std::string(8, '\0'), "8 bytes after the last section");
+  // The T-mesh: counts that cannot be, then what spline::buildTMesh refuses.
+  expect("vertices.msp", patched(good, TLayout::tmesh, huge),
+         "the T-mesh declares 2147483647 vertices, but its faces have only 120 boundary vertices");
+  expect("faces.msp", patched(good, TLayout::tmesh + 4, huge),
+         "truncated or corrupt: the T-mesh section needs 2147483647 faces");
+  expect("corners.msp", patched(good, face0, huge),
+         "truncated or corrupt: the T-mesh section needs 2147483647 boundary vertices");
+  expect("nofaces.msp", patched(good, TLayout::tmesh + 4, std::uint32_t(0)),
+         "the T-mesh declares 30 vertices, but its faces have only 0 boundary vertices");
+  expect("id.msp", patched(good, face0 + 4 + 20, std::int32_t(999)),
+         "invalid T-mesh: T-mesh face 0 has vertex id 999 out of range");
+  expect("repeat.msp", patched(good, face0 + 4 + 20, std::int32_t(0)),
+         "invalid T-mesh: T-mesh face 0 repeats a vertex");
+  expect("corner.msp", patched(good, face0 + 4 + 20 + 4, 1.5),
+         "invalid T-mesh: T-mesh face 0 is not a rectangle");
+  expect("triangle.msp", patched(good, face0, std::uint32_t(3)).erase(face0 + 4 + 3 * 20, 20),
+         "invalid T-mesh: T-mesh face 0 needs at least 4 vertices");
+  expect("infinite.msp", patched(good, face0 + 4 + 4, std::numeric_limits<double>::infinity()),
+         "invalid T-mesh: T-mesh face 0 has a non-finite position");
+  // Surface vertex points: the face out of range, the position outside its rectangle.
+  expect("face.msp", patched(good, point0, std::int32_t(n)),
+         "surface vertex 0 lies in T-mesh face 30, out of range (30 T-mesh faces)");
+  expect("face-1.msp", patched(good, point0 + 20, std::int32_t(-1)),
+         "surface vertex 1 lies in T-mesh face -1, out of range");
+  expect("outside.msp", patched(good, point0 + 4, 1.5),
+         "surface vertex 0 lies at (1.500000, 0.000000), outside T-mesh face 0 ([0, 1.000000] x "
+         "[0, 1.000000])");
+  expect("below.msp", patched(good, point0 + 20 + 12, -1e-8), "surface vertex 1 lies at");
+  expect("point-nan.msp", patched(good, point0 + 12, nan),
+         "coordinate 1 of the T-mesh point of surface vertex 0 is not finite");
+  // Within 1e-9 of the face's size a point is inside.
+  writeBytes(dir + "/edge.msp", patched(patched(good, point0 + 4, 1 + 1e-10), point0 + 12, -1e-10));
+  CHECK(io::readSplineModel(dir + "/edge.msp").surfaceVertexTMeshPoints[0].position.x() ==
+        1 + 1e-10);
+  // Weights must be positive and finite.
+  for (double w : {0.0, -0.0, -1.0, nan, std::numeric_limits<double>::infinity()})
+    expect("weight.msp", patched(good, TLayout::weights + 4 + 8 * 7, w),
+           "weight 7 is " + std::to_string(w) + ", not a positive finite number");
+  // Counts that fit but do not match: a weight missing, a weight and a control point missing,
+  // two coordinates per control point.
+  const std::string noLastWeight =
+      patched(good, TLayout::weights, std::uint32_t(n - 1)).erase(TLayout::controlPoints - 8, 8);
+  expect("weights.msp", noLastWeight, "29 weights for 30 control points");
+  expect("rows.msp",
+         patched(noLastWeight, TLayout::controlPoints - 8, std::uint32_t(n - 1))
+             .substr(0, TLayout::size - 8 - 24),
+         "29 control points, but the T-mesh has 30 blending functions");
+  expect(
+      "columns.msp",
+      patched(good, TLayout::controlPoints + 4, std::uint32_t(2)).substr(0, TLayout::size - 8 * n),
+      "control points have 2 coordinates, T-splines need 3");
+  expect("control.msp", patched(good, TLayout::size - 8, nan),
+         "coordinate 2 of control point 29 is not finite");
+  expect("surface.msp", patched(good, TLayout::surfaceFaces + 4, std::int32_t(30)),
+         "surface face 0 has vertex 30, out of range (30 surface vertices)");
+}
+
+TEST_CASE("spline_model_file: T-spline models the format refuses are not written", "[io]") {
+  const std::string dir = test::scratchDirectory("io_spline_model_file_tspline_refused");
+  const SplineModel model = tsplineModel();
+  const std::string path = dir + "/a.msp";
+  const auto refused = [&](const SplineModel& broken, const std::string& words) {
+    CHECK_THROWS_WITH(io::writeSplineModel(path, broken),
+                      Catch::Contains("cannot write '" + path + "'") && Catch::Contains(words));
+    CHECK_FALSE(fs::exists(path));
+  };
+  SplineModel broken = model;
+  broken.weights(3) = 0.0;
+  refused(broken, "weight 3 is 0.000000, not a positive finite number");
+  broken = model;
+  broken.weights(5) = -std::numeric_limits<double>::infinity();
+  refused(broken, "weight 5 is -inf");
+  broken = model;
+  broken.degree = 2;
+  refused(broken, "degree 2, but T-splines are cubic (degree 3)");
+  broken = model;
+  broken.tmesh.faces[4].vertices.pop_back();
+  broken.tmesh.faces[4].positions.pop_back();
+  refused(broken, "invalid T-mesh: T-mesh face 4 needs at least 4 vertices");
+  broken = model;
+  broken.tmesh.numVertices = 31;
+  refused(broken, "invalid T-mesh: T-mesh vertex 30 is in no face");
+  broken = model;
+  broken.surfaceVertexTMeshPoints[2].position.y() = 1.01;
+  refused(broken, "surface vertex 2 lies at (0.000000, 1.010000), outside T-mesh face 2");
+  broken = model;
+  broken.surfaceVertexTMeshPoints.pop_back();
+  refused(broken, "29 surface vertex T-mesh points for 30 surface vertices");
+  broken = model;
+  broken.weights.conservativeResize(29);
+  broken.controlPoints.conservativeResize(29, 3);
+  refused(broken, "29 control points, but the T-mesh has 30 blending functions");
+  broken = model;
+  broken.controlPoints.conservativeResize(30, 4);
+  broken.controlPoints.col(3).setZero();
+  refused(broken, "control points have 4 coordinates, T-splines need 3");
+  // A model holds its own kind's data only: the file would lose the other kind's.
+  broken = model;
+  broken.knots.resize(2);
+  refused(broken, "a T-spline model has 2 faces of knots");
+  broken = model;
+  broken.surfaceVertexLocations.resize(30);
+  refused(broken, "a T-spline model has 30 surface vertex locations");
+  SplineModel triangular = awkwardModel();
+  triangular.weights = model.weights;
+  refused(triangular, "a triangular B-spline model has 30 weights");
+  triangular = awkwardModel();
+  triangular.tmesh = model.tmesh;
+  refused(triangular, "a triangular B-spline model has 30 T-mesh vertices");
+  CHECK(fs::is_empty(dir));
 }

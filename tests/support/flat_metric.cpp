@@ -4,6 +4,7 @@
 
 #include "structure/intrinsic_flattening.h"
 #include "structure/ricci_newton.h"
+#include "support/test_meshes.h"
 
 namespace mspline::test {
 
@@ -17,6 +18,12 @@ FlatMetric flatMetric(const structure::TriMesh& mesh, const std::vector<structur
   const auto flipped = structure::flattenWithFlips(mesh, target, options);
   REQUIRE(flipped.solve.ricci.converged);
   return {flipped.overlay.mesh, flipped.overlay.edgeLengths};
+}
+
+FlatMetric eightConeSphere() {
+  std::vector<structure::Cone> cones;
+  for (int v : {3, 40, 97, 151, 230, 333, 407, 560}) cones.push_back({v, M_PI / 2.0});
+  return flatMetric(icosphere(3), cones);
 }
 
 }  // namespace mspline::test

@@ -21,4 +21,9 @@ struct FlatMetric {
 /// converge.
 FlatMetric flatMetric(const structure::TriMesh& mesh, const std::vector<structure::Cone>& cones);
 
+/// An icosphere(3) made flat but for eight cones of curvature pi/2 (angle 3 pi / 2) at scattered
+/// vertices: quarter-turn cones in general position (no trace of a rectangle layout runs into a
+/// cone).
+FlatMetric eightConeSphere();
+
 }  // namespace mspline::test

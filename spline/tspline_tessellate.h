@@ -1,0 +1,55 @@
+#pragma once
+// A T-spline surface as a triangle mesh, watertight like tessellate.h's: every T-mesh vertex and
+// every T-mesh edge is sampled once and its samples shared by the faces on both sides.
+//
+// Sampling: each edge (a side of a face between two consecutive boundary vertices, identified
+// with its twin across the side) gets `resolution` equal segments; each face gets the interior
+// points of the grid of `resolution` x `resolution` equal cells of its rectangle. A face without
+// T-junctions (4 boundary vertices) is then that grid, two triangles a cell. A face with
+// T-junctions has more boundary samples than its grid has on its sides, so its grid is stitched to
+// its boundary: the grid's cells between its interior points are triangulated as usual, and the
+// ring between the boundary polyline and the outermost interior grid points is zipped side by
+// side (along each side of the rectangle, the two chains of points are merged by their
+// coordinate along the side; every triangle has an edge on one chain and its apex on the other,
+// so none is inverted). At resolution 1 and 2 such a face has one interior point, its centre
+// (at resolution 1 added for it), and the ring is a fan around it.
+//
+// Positions are TSplineBezier's, except where the denominator sum_i w_i N_i is below 1e-6 (times
+// the largest weight): there the Bezier coefficients' rounding is no longer small against it, and
+// TSplineSpace::evaluate gives the point (and tells holes, where it is exactly 0). Where the
+// surface has a hole (around an extraordinary vertex) a sample stands for the mean, over the
+// faces that hold it, of the surface evaluated a fraction `holeOffset` of the way from the sample
+// towards each face's centre (ten times further, up to the centre, if that is in the hole too):
+// the limit of the surface around the hole, a point it approaches to O(holeOffset). No NaN is
+// written.
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "spline/tspline.h"
+#include "structure/polygon_soup.h"
+
+namespace mspline::spline {
+
+struct TSplineTessellation {
+  /// The surface's triangles, counter-clockwise in the face frames.
+  structure::PolygonSoup mesh;
+  /// Per mesh vertex: the T-mesh point it is the surface at (for a hole sample, the point in the
+  /// hole it stands for).
+  std::vector<TMeshPoint> vertexPoints;
+  /// The mesh vertices that are hole samples (ascending).
+  std::vector<int> holeVertices;
+  /// Smallest denominator sum_i w_i N_i at the points evaluated for the mesh (for hole samples,
+  /// the points off the hole); +infinity for an empty mesh.
+  double minDenominator = 0.0;
+  /// See the header comment.
+  double holeOffset = 0.0;
+};
+
+/// Samples the surface with `control` (numBasis x 3) and `weights` (numBasis, or empty for all 1)
+/// `resolution` times along every T-mesh edge (resolution >= 1). Throws InputError for a
+/// resolution below 1, wrong sizes, or a face whose centre lies in a hole.
+TSplineTessellation tessellateTSpline(const TSplineSpace& space, const Eigen::MatrixXd& control,
+                                      const Eigen::VectorXd& weights, int resolution);
+
+}  // namespace mspline::spline
