@@ -38,9 +38,9 @@ struct SplineModel {
   int degree = 3;
   /// Knots of every domain face (n + 1 per corner).
   std::vector<FaceKnots> knots;
-  /// One row per basis function. Triangular B-splines: face by face, row f * (n + 1)(n + 2) / 2 + k is the control point
-  /// of the k-th basis function of face f, beta in the order (n,0,0), (n-1,1,0), (n-1,0,1),
-  /// (n-2,2,0), ... (beta_0 descending, then beta_1 descending).
+  /// One row per basis function. Triangular B-splines: face by face, row f * (n + 1)(n + 2) / 2 + k
+  /// is the control point of the k-th basis function of face f, beta in the order (n,0,0),
+  /// (n-1,1,0), (n-1,0,1), (n-2,2,0), ... (beta_0 descending, then beta_1 descending).
   Eigen::MatrixXd controlPoints;
 
   /// T-splines only: the T-mesh (degree 3), where each surface vertex lies on it, and one weight

@@ -163,8 +163,8 @@ TriMesh cubeSurface(int m) {
   const auto vertex = [&](std::array<int, 3> p) {
     auto [it, inserted] = vertices.try_emplace(p);
     if (inserted)
-      it->second = mesh.add_vertex(TriMesh::Point(p[0] / double(m) - 1.0, p[1] / double(m) - 1.0,
-                                                  p[2] / double(m) - 1.0));
+      it->second = mesh.add_vertex(
+          TriMesh::Point(p[0] / double(m) - 1.0, p[1] / double(m) - 1.0, p[2] / double(m) - 1.0));
     return it->second;
   };
   for (int corner = 0; corner < 8; ++corner)
