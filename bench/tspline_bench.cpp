@@ -9,6 +9,7 @@
 // check that both evaluate the same surface (relative to the control points' bounding box).
 //
 // Usage: tspline_bench [N [M]]   (cells; default 200 100, each at least 4)
+//        tspline_bench MODEL.msp (c) a T-spline model of a real mesh, with extraordinary points
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -16,8 +17,10 @@
 #include <cstdlib>
 #include <random>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
+#include "io/spline_model_file.h"
 #include "spline/tmesh.h"
 #include "spline/tspline.h"
 #include "spline/tspline_osd.h"
@@ -40,6 +43,26 @@ std::vector<double> knotLines(int count) {
   return knots;
 }
 
+void printComparison(const char* name, int vertices, int faces, double spaceSeconds,
+                     const spline::OsdComparison& c) {
+  const double msplineSetup = spaceSeconds + c.msplineSetupSeconds;
+  std::printf("\n%s: %d vertices, %d faces (%d regular, %d irregular, %d without surface)\n", name,
+              vertices, faces, c.regularFaces, c.irregularFaces, c.facesWithoutSurface);
+  std::printf(
+      "  %d of %d random points compared; max deviation on regular faces %.3g (position), %.3g "
+      "(first derivatives); on irregular faces %.3g, %.3g\n",
+      c.samples, kSamples, c.regularMaxDeviation, c.regularMaxDerivativeDeviation,
+      c.irregularMaxDeviation, c.irregularMaxDerivativeDeviation);
+  std::printf("  %-34s %12s %10s\n", "evaluator", "Mpoints/s", "setup s");
+  std::printf("  %-34s %12.3f %10.3f  (TSplineSpace %.3f s + Bezier extraction %.3f s)\n",
+              "mspline T-spline (TSplineBezier)", c.msplinePointsPerSecond / 1e6, msplineSetup,
+              spaceSeconds, c.msplineSetupSeconds);
+  std::printf("  %-34s %12.3f %10.3f\n", "OpenSubdiv Far (double)", c.osdPointsPerSecond / 1e6,
+              c.osdSetupSeconds);
+  std::printf("  mspline / OpenSubdiv: %.2fx the speed (target >= 1), %.2fx the setup time\n",
+              c.msplinePointsPerSecond / c.osdPointsPerSecond, msplineSetup / c.osdSetupSeconds);
+}
+
 // Times the T-spline setup, compares and prints one case. `pointOf(i, j)` is the control point of
 // grid vertex (i, j); vertex ids are gridTMesh's, j * columns + i.
 template <class PointOf>
@@ -55,32 +78,47 @@ void runCase(const char* name, spline::TMesh mesh, int columns, PointOf pointOf)
   }
   spline::OsdCompareOptions options;
   options.samples = kSamples;
-  const spline::OsdComparison c = spline::compareWithOpenSubdiv(space, control, {}, options);
-  const double msplineSetup = spaceSeconds + c.msplineSetupSeconds;
-  std::printf("\n%s: %d vertices, %d faces (%d regular, %d irregular, %d without surface)\n", name,
-              vertices, faces, c.regularFaces, c.irregularFaces, c.facesWithoutSurface);
-  std::printf(
-      "  %d of %d random points compared; max deviation %.3g (position), %.3g (first "
-      "derivatives)\n",
-      c.samples, kSamples, std::max(c.regularMaxDeviation, c.irregularMaxDeviation),
-      std::max(c.regularMaxDerivativeDeviation, c.irregularMaxDerivativeDeviation));
-  std::printf("  %-34s %12s %10s\n", "evaluator", "Mpoints/s", "setup s");
-  std::printf("  %-34s %12.3f %10.3f  (TSplineSpace %.3f s + Bezier extraction %.3f s)\n",
-              "mspline T-spline (TSplineBezier)", c.msplinePointsPerSecond / 1e6, msplineSetup,
-              spaceSeconds, c.msplineSetupSeconds);
-  std::printf("  %-34s %12.3f %10.3f\n", "OpenSubdiv Far (double)", c.osdPointsPerSecond / 1e6,
-              c.osdSetupSeconds);
-  std::printf("  mspline / OpenSubdiv: %.2fx the speed, %.2fx the setup time\n",
-              c.msplinePointsPerSecond / c.osdPointsPerSecond, msplineSetup / c.osdSetupSeconds);
+  printComparison(name, vertices, faces, spaceSeconds,
+                  spline::compareWithOpenSubdiv(space, control, {}, options));
+}
+
+// A T-spline model (mspline spline --kind tspline): its own T-mesh and control points, with
+// extraordinary points at the cones.
+void runModel(const std::string& path) {
+  const spline::SplineModel model = io::readSplineModel(path);
+  if (model.kind != spline::SplineKind::TSpline)
+    throw std::runtime_error(path + " is not a T-spline model");
+  auto start = Clock::now();
+  const spline::TSplineSpace space(model.tmesh);
+  const double spaceSeconds = since(start);
+  spline::OsdCompareOptions options;
+  options.samples = kSamples;
+  printComparison(
+      ("(c) " + path).c_str(), model.tmesh.numVertices, model.tmesh.numFaces(), spaceSeconds,
+      spline::compareWithOpenSubdiv(space, model.controlPoints, model.weights, options));
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc == 2 && std::string(argv[1]).size() > 4 &&
+      std::string(argv[1]).substr(std::string(argv[1]).size() - 4) == ".msp") {
+    try {
+      std::printf("tspline_bench: position + first derivatives at %d random points, serial\n",
+                  kSamples);
+      runModel(argv[1]);
+      return 0;
+    } catch (const std::exception& error) {
+      std::fprintf(stderr, "tspline_bench: %s\n", error.what());
+      return 1;
+    }
+  }
   const int n = argc > 1 ? std::atoi(argv[1]) : 200;
   const int m = argc > 2 ? std::atoi(argv[2]) : (argc > 1 ? n : 100);
   if (argc > 3 || n < 4 || m < 4) {
-    std::fprintf(stderr, "usage: tspline_bench [N [M]]   (grid cells, each at least 4)\n");
+    std::fprintf(stderr,
+                 "usage: tspline_bench [N [M]]   (grid cells, each at least 4)\n"
+                 "       tspline_bench MODEL.msp (a T-spline model)\n");
     return 1;
   }
   try {

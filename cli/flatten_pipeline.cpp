@@ -29,6 +29,7 @@ std::vector<Cone> chooseCones(const TriMesh& mesh, const FlattenSettings& argume
   if (arguments.singleCone || arguments.cones == "auto" || isCount(arguments.cones)) {
     ConePlacementOptions options;
     options.quantize = arguments.quantize;
+    options.maxQuarterTurns = arguments.maxConeQuarterTurns;
     options.singleCone = arguments.singleCone;
     if (isCount(arguments.cones)) {
       const std::string& text = arguments.cones;

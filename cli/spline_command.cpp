@@ -239,7 +239,11 @@ void addSplineCommand(CLI::App& app, Command& command) {
   sub->callback([&command, arguments] {
     command.name = "spline";
     // T-spline knot lines must survive chart changes: quarter-turn cones and holonomy.
-    if (arguments->kind == "tspline") arguments->settings.quantize = true;
+    // Quad grids also need every cone angle to be at least pi (no vertex of valence one).
+    if (arguments->kind == "tspline") {
+      arguments->settings.quantize = true;
+      arguments->settings.maxConeQuarterTurns = 2;
+    }
     command.run = [&command, arguments] {
       const SplineArguments& a = *arguments;
       auto progress = [&](const std::string& line) {

@@ -246,6 +246,7 @@ LayoutTMesh layoutTMesh(const MotorcycleLayout& layout, const LayoutTMeshOptions
     if (segments[std::size_t(e)].from == segments[std::size_t(e)].to) minimum[e] = 2.0;
   LayoutTMesh grid;
   grid.cellSize = options.cellSize;
+  int halvings = 0;
   for (int attempt = 0; attempt < 12; ++attempt) {
     Eigen::VectorXd target(n);
     for (Eigen::Index e = 0; e < n; ++e)
@@ -253,7 +254,8 @@ LayoutTMesh layoutTMesh(const MotorcycleLayout& layout, const LayoutTMeshOptions
     const Eigen::VectorXd values =
         roundCells(constraints, kernel, target, minimum, grid.roundingRounds);
     if (values.size() == 0) {
-      // Segments too short for whole cells: finer cells.
+      // Segments too short for whole cells: finer cells, up to 16 times as many.
+      if (++halvings > 2) break;
       grid.cellSize /= 2.0;
       continue;
     }
@@ -270,8 +272,8 @@ LayoutTMesh layoutTMesh(const MotorcycleLayout& layout, const LayoutTMeshOptions
       for (int he : side) minimum[he / 2] = std::max(minimum[he / 2] + 1.0, 2.0);
   }
   throw structure::SolverError(
-      "layout T-mesh: no whole numbers of cells make a valid grid (cell size " +
-      std::to_string(grid.cellSize) + ")");
+      "layout T-mesh: no whole numbers of cells make a valid grid, down to cell size " +
+      std::to_string(grid.cellSize));
 }
 
 TMeshPoint layoutPoint(const MotorcycleLayout& layout, const LayoutTMesh& grid,

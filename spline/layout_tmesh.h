@@ -46,7 +46,7 @@ struct LayoutTMesh {
   int roundingRounds = 0;
 };
 
-/// Segments too short for a whole cell at the asked cell size make it halve (up to 11 times); a
+/// Segments too short for a whole cell at the asked cell size make it halve (at most twice); a
 /// rectangle whose cells would repeat a vertex gets at least two cells along its segments. Throws
 /// SolverError when no valid grid is found.
 LayoutTMesh layoutTMesh(const structure::MotorcycleLayout& layout,

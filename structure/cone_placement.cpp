@@ -117,14 +117,14 @@ double distortionOf(const Eigen::VectorXd& u, bool closed) {
 }
 
 // Largest-remainder rounding of the cone curvatures to multiples of pi/2 summing to `total`
-// quarter turns, no multiple above 3 (the cone angle stays positive).
-std::vector<int> roundToQuarterTurns(const std::vector<Cone>& cones, long total) {
+// quarter turns, no multiple above `largest` (at most 3: the cone angle stays positive).
+std::vector<int> roundToQuarterTurns(const std::vector<Cone>& cones, long total, int largest) {
   std::vector<int> k(cones.size());
   std::vector<double> remainder(cones.size());
   long sum = 0;
   for (std::size_t i = 0; i < cones.size(); ++i) {
     const double q = cones[i].curvature / kQuarter;
-    k[i] = std::min(3, static_cast<int>(std::floor(q)));
+    k[i] = std::min(largest, static_cast<int>(std::floor(q)));
     remainder[i] = q - k[i];
     sum += k[i];
   }
@@ -134,7 +134,7 @@ std::vector<int> roundToQuarterTurns(const std::vector<Cone>& cones, long total)
                    [&](std::size_t a, std::size_t b) { return remainder[a] > remainder[b]; });
   for (std::size_t i : order) {
     if (sum >= total) break;
-    if (k[i] < 3) {
+    if (k[i] < largest) {
       ++k[i];
       ++sum;
     }
@@ -309,12 +309,15 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
             << " rounds (" << stop << ")";
 
     if (options.quantize && !cones.empty()) {
+      if (options.maxQuarterTurns < 1 || options.maxQuarterTurns > 3)
+        throw InputError("cone placement: the largest quarter-turn multiple must be 1 to 3");
+      const int largest = options.maxQuarterTurns;
       std::vector<int> k;
       if (closed) {
-        k = roundToQuarterTurns(cones, 4 * chi);
+        k = roundToQuarterTurns(cones, 4 * chi, largest);
       } else {
         for (const Cone& c : cones)
-          k.push_back(std::min(3, static_cast<int>(std::lround(c.curvature / kQuarter))));
+          k.push_back(std::min(largest, static_cast<int>(std::lround(c.curvature / kQuarter))));
       }
       std::vector<Cone> kept;
       for (std::size_t i = 0; i < cones.size(); ++i) {

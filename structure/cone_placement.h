@@ -40,6 +40,10 @@ struct ConePlacementOptions {
   /// On closed surfaces the integers sum to exactly 4 chi (largest-remainder rounding); cones that
   /// round to 0 are dropped. Every cone angle 2 pi - k pi / 2 stays positive (k <= 3).
   bool quantize = false;
+  /// With `quantize`: the largest multiple k allowed. 3 (default) lets a cone angle go down to
+  /// pi/2; 2 keeps every angle at least pi, as quad grids need (a cone of angle pi/2 would be a
+  /// vertex of valence one). The curvature cut off goes to other cones by the same rounding.
+  int maxQuarterTurns = 3;
   /// Closed genus >= 2 only (TopologyError otherwise): one cone carrying all of 2 pi chi
   /// (Gu et al. 2008), at the vertex of largest |u| of the cone-free linear solve; `targetCount`
   /// and `maxDistortion` are ignored. Its curvature 2 pi (2 - 2g) is a multiple of pi/2, so

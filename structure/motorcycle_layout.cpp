@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <queue>
 #include <string>
 #include <utility>
@@ -121,6 +122,8 @@ struct MotorcycleLayout::Data {
     int piece = -1;
     double w = 0.0;
   };
+  std::optional<RectanglePoint> walk(int f, Eigen::Vector2d p, Eigen::Vector2d direction) const;
+
   Hit firstPiece(int f, const Eigen::Vector2d& p, const Eigen::Vector2d& d, double limit) const {
     Hit hit;
     for (std::size_t k = 0; k < pieces[f].size(); ++k) {
@@ -271,6 +274,12 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
     if (quarterTurns < 1 || std::abs(angle - quarterTurns * kQuarter) > options.angleTolerance)
       throw InputError("motorcycle layout: vertex " + std::to_string(v.idx()) + " has cone angle " +
                        std::to_string(angle) + ", not a multiple of pi/2");
+    // One trace only: both sides of it bound the same rectangle, folded around the cone, and a
+    // quad grid cannot have a vertex of valence one.
+    if (quarterTurns == 1)
+      throw InputError("motorcycle layout: vertex " + std::to_string(v.idx()) +
+                       " is a cone of angle pi/2 (valence one in a quad grid); place cones of "
+                       "angle at least pi there");
     const int node = int(d.nodes.size());
     d.nodes.push_back({v.idx(), quarterTurns});
     // Around v counter-clockwise, the corners' angles summed: trace j leaves at the first axis
@@ -464,30 +473,15 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
   }
 }
 
-RectanglePoint MotorcycleLayout::locate(int face, const Eigen::Vector3d& barycentric) const {
-  const Data& d = *data_;
-  if (face < 0 || face >= int(d.faces.size()))
-    throw InputError("motorcycle layout: face " + std::to_string(face) + " out of range");
-  const FaceGeometry& start = d.faces[std::size_t(face)];
-  // A hair (1e-6 of the face) inside, walking along the axis direction closest to the face's
-  // centre: a walk from a corner or a side then leaves the face forwards.
-  const Eigen::Vector3d b = (1.0 - 1e-6) * barycentric + Eigen::Vector3d::Constant(1e-6 / 3.0);
-  Eigen::Vector2d p = b[0] * start.corner[0] + b[1] * start.corner[1] + b[2] * start.corner[2];
-  const Eigen::Vector2d towardsCentre =
-      (start.corner[0] + start.corner[1] + start.corner[2]) / 3.0 - p;
-  Eigen::Vector2d direction(std::cos(start.frame), std::sin(start.frame));
-  for (int k = 1; k < 4; ++k) {
-    const Eigen::Vector2d axis(std::cos(start.frame + k * kQuarter),
-                               std::sin(start.frame + k * kQuarter));
-    if (axis.dot(towardsCentre) > direction.dot(towardsCentre)) direction = axis;
-  }
-  int f = face;
+// Walks from p in face f along `direction` to the first trace: the rectangle point there, or
+// nothing when the walk loses its way (a sliver face) or meets no trace.
+std::optional<RectanglePoint> MotorcycleLayout::Data::walk(int f, Eigen::Vector2d p,
+                                                           Eigen::Vector2d direction) const {
+  const Data& d = *this;
   double travelled = 0.0;
   for (;;) {
     const Data::Exit exit = d.exitOf(f, p, direction);
-    if (exit.edge < 0)
-      throw SolverError("motorcycle layout: locating walk lost its way in face " +
-                        std::to_string(f));
+    if (exit.edge < 0) return std::nullopt;
     const Data::Hit hit = d.firstPiece(f, p, direction, exit.t);
     if (hit.t >= 0.0) {
       const Piece& piece = d.pieces[std::size_t(f)][std::size_t(hit.piece)];
@@ -527,14 +521,38 @@ RectanglePoint MotorcycleLayout::locate(int face, const Eigen::Vector3d& barycen
       return point;
     }
     travelled += (exit.point - p).norm();
-    if (travelled > 100.0 * d.scale)
-      throw SolverError("motorcycle layout: locating walk from face " + std::to_string(face) +
-                        " meets no trace");
+    if (travelled > 100.0 * d.scale) return std::nullopt;
     const Motion& m = d.faces[std::size_t(f)].across[std::size_t(exit.edge)];
     p = m.apply(exit.point);
     direction = (m.rotation * direction).normalized();
     f = d.faces[std::size_t(f)].neighbour[std::size_t(exit.edge)];
   }
+}
+
+RectanglePoint MotorcycleLayout::locate(int face, const Eigen::Vector3d& barycentric) const {
+  const Data& d = *data_;
+  if (face < 0 || face >= int(d.faces.size()))
+    throw InputError("motorcycle layout: face " + std::to_string(face) + " out of range");
+  const FaceGeometry& start = d.faces[std::size_t(face)];
+  // A hair (1e-6 of the face) inside, walking along the axis directions, the one closest to the
+  // face's centre first: a walk from a corner or a side then leaves the face forwards.
+  const Eigen::Vector3d b = (1.0 - 1e-6) * barycentric + Eigen::Vector3d::Constant(1e-6 / 3.0);
+  const Eigen::Vector2d p =
+      b[0] * start.corner[0] + b[1] * start.corner[1] + b[2] * start.corner[2];
+  const Eigen::Vector2d towardsCentre =
+      (start.corner[0] + start.corner[1] + start.corner[2]) / 3.0 - p;
+  std::vector<std::pair<double, Eigen::Vector2d>> axes;
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector2d axis(std::cos(start.frame + k * kQuarter),
+                               std::sin(start.frame + k * kQuarter));
+    axes.emplace_back(-axis.dot(towardsCentre), axis);
+  }
+  std::sort(axes.begin(), axes.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (const auto& [order, axis] : axes)
+    if (const auto point = d.walk(face, p, axis)) return *point;
+  throw SolverError("motorcycle layout: no walk from face " + std::to_string(face) +
+                    " reaches a trace");
 }
 
 }  // namespace mspline::structure

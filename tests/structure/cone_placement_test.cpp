@@ -1,5 +1,6 @@
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -312,4 +313,26 @@ TEST_CASE("cone_placement: cone files", "[structure]") {
   SECTION("a missing file is an I/O error") {
     CHECK_THROWS_AS(structure::readConeFile(dir + "/missing.txt"), structure::IoError);
   }
+}
+
+TEST_CASE("cone_placement: quantized cones can be kept at angle pi or more", "[structure]") {
+  // A sphere with a spike twice its radius: its tip gathers about three quarter turns.
+  TriMesh mesh = test::icosphere(3);
+  mesh.set_point(mesh.vertex_handle(0), mesh.point(mesh.vertex_handle(0)) * 2.0);
+  ConePlacementOptions options;
+  options.quantize = true;
+  const auto sharp = structure::placeCones(mesh, options);
+  CHECK(*std::max_element(sharp.quarterTurns.begin(), sharp.quarterTurns.end()) == 3);
+  options.maxQuarterTurns = 2;
+  const auto blunt = structure::placeCones(mesh, options);
+  int turns = 0;
+  for (int k : blunt.quarterTurns) {
+    CHECK(k <= 2);
+    turns += k;
+  }
+  CHECK(turns == 8);
+  CHECK(std::abs(curvatureSum(blunt.cones) - 4 * kPi) <= 1e-12);
+  checkConverged(mesh, flatten("spiked icosphere, angles >= pi", mesh, blunt));
+  options.maxQuarterTurns = 4;
+  CHECK_THROWS_AS(structure::placeCones(mesh, options), structure::InputError);
 }
