@@ -133,7 +133,31 @@ Eigen::VectorXd roundCells(const Eigen::MatrixXd& constraints, const Eigen::Matr
       remaining -= Eigen::Index(count);
       z = closestCoefficients(kernel, target, weight, z, fixed);
     }
-    const Eigen::VectorXd values = kernel * z;
+    Eigen::VectorXd values = kernel * z;
+    // Local repair: steps of one cell along lattice basis vectors with entries -1, 0, 1 (strips of
+    // cells added or removed) that lower the total shortfall.
+    const auto shortfall = [&](const Eigen::VectorXd& x) {
+      return (minimum - x).cwiseMax(0.0).sum();
+    };
+    for (int step = 0; step < 200 && shortfall(values) > 0.5; ++step) {
+      double best = shortfall(values), bestDeviation = INFINITY;
+      Eigen::VectorXd bestValues;
+      for (Eigen::Index k = 0; k < kernel.cols(); ++k)
+        for (double sign : {1.0, -1.0}) {
+          if (kernel.col(k).cwiseAbs().maxCoeff() > 1.0) continue;  // small moves only
+          const Eigen::VectorXd trial = values + sign * kernel.col(k);
+          const double s = shortfall(trial);
+          const double deviation = (weight.cwiseSqrt().asDiagonal() * (trial - target)).norm();
+          if (s < best - 0.5 ||
+              (s < best + 0.5 && s < shortfall(values) - 0.5 && deviation < bestDeviation)) {
+            best = s;
+            bestDeviation = deviation;
+            bestValues = trial;
+          }
+        }
+      if (bestValues.size() == 0) break;
+      values = bestValues;
+    }
     bool tooShort = false;
     for (Eigen::Index e = 0; e < n; ++e)
       if (values[e] < minimum[e] - 0.5) {
