@@ -236,8 +236,14 @@ Flattening flattenMesh(const TriMesh& mesh, const std::string& file,
   if (settings.quantize && topology.closed && topology.genus >= 1) {
     progress("quantizing the rotation along " + std::to_string(2 * topology.genus) +
              " handle loops");
-    const HolonomyQuantizationResult holonomy =
-        quantizeHolonomy(out.surface(), out.flatLengths, cones);
+    HolonomyQuantizationResult holonomy;
+    try {
+      holonomy = quantizeHolonomy(out.surface(), out.flatLengths, cones);
+    } catch (const SolverError& error) {
+      // A singular step (too few triangles to move the rotations): as non-convergence.
+      holonomy.converged = false;
+      holonomy.message = error.what();
+    }
     stages["holonomy"] = clock.lap();
     report["holonomy"] = {{"loops", holonomy.loops.size()},
                           {"initial_rotations", asVector(holonomy.initialRotation)},

@@ -1,12 +1,11 @@
 #include "spline/control_fit.h"
 
-#include <cmath>
 #include <string>
 
 #include <Eigen/SparseCore>
 
+#include "spline/regularized_fit.h"
 #include "structure/errors.h"
-#include "structure/sparse_cholesky.h"
 
 namespace mspline::spline {
 
@@ -58,22 +57,11 @@ ControlFitResult fitControlPoints(const TriBSplineSpace& space,
       }
   }
 
-  Eigen::SparseMatrix<double> normal = design.transpose() * design;
-  const double lambda = options.regularization * normal.diagonal().mean();
-  Eigen::SparseMatrix<double> identity(count, count);
-  identity.setIdentity();
-  normal += lambda * identity;
-  structure::SparseCholesky cholesky;
-  cholesky.compute(normal);
-  const Eigen::MatrixXd rhs = design.transpose() * usedTargets + lambda * guess;
-  result.controlPoints.resize(count, targets.cols());
-  for (Eigen::Index c = 0; c < targets.cols(); ++c)
-    result.controlPoints.col(c) = cholesky.solve(rhs.col(c));
-
-  const Eigen::MatrixXd residual = design * result.controlPoints - usedTargets;
-  const Eigen::VectorXd distance = residual.rowwise().norm();
-  result.rmsError = std::sqrt(distance.squaredNorm() / double(distance.size()));
-  result.maxError = distance.maxCoeff();
+  const RegularizedFit fit =
+      solveRegularizedFit(design, usedTargets, guess, options.regularization);
+  result.controlPoints = fit.controlPoints;
+  result.rmsError = fit.rmsError;
+  result.maxError = fit.maxError;
   return result;
 }
 

@@ -12,29 +12,6 @@ namespace mspline::spline {
 
 using structure::InputError;
 
-Eigen::Vector2d QuarterMotion::rotate(const Eigen::Vector2d& d) const {
-  switch (quarterTurns & 3) {
-    case 1:
-      return {-d.y(), d.x()};
-    case 2:
-      return {-d.x(), -d.y()};
-    case 3:
-      return {d.y(), -d.x()};
-    default:
-      return d;
-  }
-}
-
-QuarterMotion QuarterMotion::then(const QuarterMotion& next) const {
-  return {(quarterTurns + next.quarterTurns) & 3, next.apply(translation)};
-}
-
-QuarterMotion QuarterMotion::inverse() const {
-  QuarterMotion back{(4 - quarterTurns) & 3, Eigen::Vector2d::Zero()};
-  back.translation = -back.rotate(translation);
-  return back;
-}
-
 QuarterMotion TMesh::acrossEdge(int face, int edge) const {
   const TMeshFace& f = faces.at(face);
   const int other = f.twinFace.at(edge);

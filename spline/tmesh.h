@@ -18,11 +18,29 @@ struct QuarterMotion {
   int quarterTurns = 0;  // 0 .. 3
   Eigen::Vector2d translation = Eigen::Vector2d::Zero();
 
-  Eigen::Vector2d rotate(const Eigen::Vector2d& d) const;
+  // Inline: they sit in the inner loops of the developments (tspline.cpp).
+  Eigen::Vector2d rotate(const Eigen::Vector2d& d) const {
+    switch (quarterTurns & 3) {
+      case 1:
+        return {-d.y(), d.x()};
+      case 2:
+        return {-d.x(), -d.y()};
+      case 3:
+        return {d.y(), -d.x()};
+      default:
+        return d;
+    }
+  }
   Eigen::Vector2d apply(const Eigen::Vector2d& p) const { return rotate(p) + translation; }
   /// The motion "this, then next".
-  QuarterMotion then(const QuarterMotion& next) const;
-  QuarterMotion inverse() const;
+  QuarterMotion then(const QuarterMotion& next) const {
+    return {(quarterTurns + next.quarterTurns) & 3, next.apply(translation)};
+  }
+  QuarterMotion inverse() const {
+    QuarterMotion back{(4 - quarterTurns) & 3, Eigen::Vector2d::Zero()};
+    back.translation = -back.rotate(translation);
+    return back;
+  }
 };
 
 struct TMeshFace {

@@ -5,6 +5,8 @@
 #include <limits>
 #include <utility>
 
+#include <Eigen/Geometry>
+
 #include "spline/cubic_bspline.h"
 #include "structure/errors.h"
 
@@ -20,33 +22,10 @@ double meshScale(const TMesh& mesh) {
   return scale;
 }
 
-// QuarterMotion's rotate, apply and then, visible to the compiler in the developments' inner
-// loops: the same operations, so the same results to the bit.
-inline Eigen::Vector2d rotated(const QuarterMotion& m, const Eigen::Vector2d& d) {
-  switch (m.quarterTurns & 3) {
-    case 1:
-      return {-d.y(), d.x()};
-    case 2:
-      return {-d.x(), -d.y()};
-    case 3:
-      return {d.y(), -d.x()};
-    default:
-      return d;
-  }
-}
-
-inline Eigen::Vector2d applied(const QuarterMotion& m, const Eigen::Vector2d& p) {
-  return rotated(m, p) + m.translation;
-}
-
-inline QuarterMotion followedBy(const QuarterMotion& m, const QuarterMotion& next) {
-  return {(m.quarterTurns + next.quarterTurns) & 3, applied(next, m.translation)};
-}
-
 // Chart-space rectangle of a developed face.
 void developedBox(const TMeshFace& face, const QuarterMotion& m, Eigen::Vector2d& lo,
                   Eigen::Vector2d& hi) {
-  const Eigen::Vector2d a = applied(m, {0.0, 0.0}), b = applied(m, {face.width, face.height});
+  const Eigen::Vector2d a = m.apply({0.0, 0.0}), b = m.apply({face.width, face.height});
   lo = a.cwiseMin(b);
   hi = a.cwiseMax(b);
 }
@@ -111,7 +90,7 @@ class FaceDeveloper::Impl {
       const QuarterMotion* fromTwin = &fromTwin_[firstSide_[d.face]];
       for (std::size_t k = 0; k < face.vertices.size(); ++k) {
         if (face.twinFace[k] < 0) continue;
-        const DevelopedFace next{face.twinFace[k], followedBy(fromTwin[k], d.toChart)};
+        const DevelopedFace next{face.twinFace[k], fromTwin[k].then(d.toChart)};
         if (!meets(next) || !record(next)) continue;
         found.push_back(next);
       }
@@ -168,15 +147,15 @@ void castRay(const TMesh& mesh, const std::vector<DevelopedFace>& faces, const Q
   hits.covered = 0.0;
   for (const DevelopedFace& d : faces) {
     const TMeshFace& face = mesh.faces[d.face];
-    const QuarterMotion m = followedBy(d.toChart, toRay);
+    const QuarterMotion m = d.toChart.then(toRay);
     Eigen::Vector2d lo, hi;
     developedBox(face, m, lo, hi);
     if (lo.y() > tolerance || hi.y() < -tolerance || hi.x() <= tolerance) continue;
     hits.spans.emplace_back(lo.x(), hi.x());
     const std::size_t n = face.positions.size();
     for (std::size_t k = 0; k < n; ++k) {
-      const Eigen::Vector2d a = applied(m, face.positions[k]),
-                            b = applied(m, face.positions[(k + 1) % n]);
+      const Eigen::Vector2d a = m.apply(face.positions[k]),
+                            b = m.apply(face.positions[(k + 1) % n]);
       if (std::abs(a.x() - b.x()) > tolerance) continue;
       if (std::min(a.y(), b.y()) > tolerance || std::max(a.y(), b.y()) < -tolerance) continue;
       if (a.x() > tolerance) hits.knots.push_back(a.x());
@@ -396,6 +375,10 @@ TSplinePoint rationalPoint(const Eigen::MatrixXd& control, const Eigen::VectorXd
   point.dss = (nss - 2.0 * ds * point.ds - dss * s) / d;
   point.dst = (nst - ds * point.dt - dt * point.ds - dst * s) / d;
   point.dtt = (ntt - 2.0 * dt * point.dt - dtt * s) / d;
+  if (derivatives && dim == 3) {
+    const Eigen::Vector3d n3 = Eigen::Vector3d(point.ds).cross(Eigen::Vector3d(point.dt));
+    point.normal = n3 / n3.norm();
+  }
   return point;
 }
 

@@ -73,6 +73,9 @@ struct TSplineBasisValue {
 /// A point of a T-spline surface with derivatives along the face frame's axes.
 struct TSplinePoint {
   Eigen::VectorXd position, ds, dt, dss, dst, dtt;
+  /// Surfaces in 3-space, with derivatives asked for: the unit normal ds x dt / |ds x dt| (NaN
+  /// where the derivatives are parallel); empty otherwise.
+  Eigen::VectorXd normal;
   /// sum_i w_i N_i at the point (1 where the blending functions form a partition of unity);
   /// 0 in a hole, where position is NaN.
   double denominator = 0.0;

@@ -17,20 +17,14 @@ namespace fs = std::filesystem;
 using mspline::test::cliPath;
 using mspline::test::realMeshPath;
 using mspline::test::runCommand;
+using mspline::test::runJson;
 using namespace mspline;
 
 namespace {
 
-nlohmann::json run(const std::string& arguments, int expectedExit = 0) {
-  auto result = runCommand(cliPath() + " " + arguments + " --json");
-  INFO(arguments << "\nstderr: " << result.err);
-  REQUIRE(result.exitCode == expectedExit);
-  return nlohmann::json::parse(result.out);
-}
-
 nlohmann::json checkModel(const std::string& name, const std::string& model) {
   // The knot route re-evaluates every simplex spline from scratch: a few hundred samples show it.
-  const auto check = run("check " + model + " --samples 10000 --knot-samples 100");
+  const auto check = runJson("check " + model + " --samples 10000 --knot-samples 100");
   WARN(name << ": " << check.dump());
   CHECK(check["samples"] == 10000);
   CHECK(check["charts_per_sample"].get<double>() >= 2.0);
@@ -49,7 +43,7 @@ nlohmann::json checkModel(const std::string& name, const std::string& model) {
 TEST_CASE("spline: knot1 without cones, checked in every chart", "[cli]") {
   const std::string dir = mspline::test::scratchDirectory("cli_spline_knot");
   const auto built =
-      run("spline -q " + realMeshPath("knot1.off") + " --cones none -o " + dir + "/k.msp");
+      runJson("spline -q " + realMeshPath("knot1.off") + " --cones none -o " + dir + "/k.msp");
   CHECK(built["cones"] == 0);
   CHECK(built["control_points"] == 6000);
   CHECK(built["domain_flatness"]["after"].get<double>() <= 1e-13);
@@ -64,7 +58,8 @@ TEST_CASE("spline: bunny00 and eight with quantized cones, checked in every char
   const std::string dir = mspline::test::scratchDirectory("cli_spline_cones");
   for (const std::string name : {"bunny00", "eight"}) {
     const std::string model = dir + "/" + name + ".msp";
-    const auto built = run("spline -q " + realMeshPath(name + ".off") + " --quantize -o " + model);
+    const auto built =
+        runJson("spline -q " + realMeshPath(name + ".off") + " --quantize -o " + model);
     CHECK(built["cones"].get<int>() > 0);
     CHECK(built["fit_rms_error"].get<double>() <= 2e-3);
     checkModel(name, model);
@@ -73,7 +68,8 @@ TEST_CASE("spline: bunny00 and eight with quantized cones, checked in every char
 
 TEST_CASE("spline: save, load and save again give the same bytes and values", "[cli]") {
   const std::string dir = mspline::test::scratchDirectory("cli_spline_roundtrip");
-  run("spline -q " + realMeshPath("eight.off") + " --quantize --control 2000 -o " + dir + "/a.msp");
+  runJson("spline -q " + realMeshPath("eight.off") + " --quantize --control 2000 -o " + dir +
+          "/a.msp");
   const spline::SplineModel model = io::readSplineModel(dir + "/a.msp");
   io::writeSplineModel(dir + "/b.msp", model);
   CHECK(mspline::test::fileText(dir + "/a.msp") == mspline::test::fileText(dir + "/b.msp"));
@@ -100,10 +96,11 @@ TEST_CASE("spline: save, load and save again give the same bytes and values", "[
 
 TEST_CASE("spline: export writes a watertight surface", "[cli]") {
   const std::string dir = mspline::test::scratchDirectory("cli_spline_export");
-  run("spline -q " + realMeshPath("eight.off") + " --quantize --control 2000 -o " + dir + "/e.msp");
+  runJson("spline -q " + realMeshPath("eight.off") + " --quantize --control 2000 -o " + dir +
+          "/e.msp");
   for (const std::string extension : {"obj", "ply", "stl"}) {
     const std::string out = dir + "/e." + extension;
-    const auto exported = run("export " + dir + "/e.msp -o " + out + " --resolution 4");
+    const auto exported = runJson("export " + dir + "/e.msp -o " + out + " --resolution 4");
     CHECK(exported["faces"].get<int>() == 16 * exported["faces"].get<int>() / 16);
     CHECK(exported["min_denominator"].get<double>() > 0.0);
     const auto loaded = io::loadMesh(out);

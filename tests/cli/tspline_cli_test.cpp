@@ -2,10 +2,8 @@
 // end: a real mesh, hand-made T-meshes with T-junctions and extraordinary points, bad input.
 #include <catch2/catch.hpp>
 
-#include <array>
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <nlohmann/json.hpp>
 
 #include "io/load_mesh.h"
@@ -13,21 +11,16 @@
 #include "spline/tspline.h"
 #include "structure/topology.h"
 #include "support/test_data.h"
+#include "support/test_tmeshes.h"
 
 namespace fs = std::filesystem;
 using mspline::test::cliPath;
 using mspline::test::realMeshPath;
 using mspline::test::runCommand;
+using mspline::test::runJson;
 using namespace mspline;
 
 namespace {
-
-nlohmann::json run(const std::string& arguments, int expectedExit = 0) {
-  auto result = runCommand(cliPath() + " " + arguments + " --json");
-  INFO(arguments << "\nstderr: " << result.err);
-  REQUIRE(result.exitCode == expectedExit);
-  return nlohmann::json::parse(result.out);
-}
 
 // A T-spline model on `mesh` with the given control points, unit weights and a one-triangle
 // surface (the file needs one; the commands here do not look at it).
@@ -46,58 +39,12 @@ spline::SplineModel tsplineModel(const spline::TMesh& mesh, const Eigen::MatrixX
   return model;
 }
 
-// A 6 x 6 grid of unit cells whose block [2, 4]^2 is one face: four T-junctions.
-spline::TMesh mergedBlock() {
-  std::vector<std::array<int, 4>> rectangles{{2, 2, 4, 4}};
-  for (int j = 0; j < 6; ++j)
-    for (int i = 0; i < 6; ++i)
-      if (i < 2 || i >= 4 || j < 2 || j >= 4) rectangles.push_back({i, j, i + 1, j + 1});
-  Eigen::MatrixX2d lo(rectangles.size(), 2), hi(rectangles.size(), 2);
-  for (std::size_t r = 0; r < rectangles.size(); ++r) {
-    lo.row(Eigen::Index(r)) << rectangles[r][0], rectangles[r][1];
-    hi.row(Eigen::Index(r)) << rectangles[r][2], rectangles[r][3];
-  }
-  return spline::planarTMesh(lo, hi);
-}
-
 // The surface of the cube [0, k]^3 in unit cells, control points at the lattice points scaled to
 // [-1, 1]^3: 8 extraordinary vertices of valence 3.
 spline::SplineModel cubeModel(int k) {
-  std::map<std::array<int, 3>, int> id;
-  std::vector<std::array<int, 3>> lattice;
-  const auto vertex = [&](const std::array<int, 3>& p) {
-    const auto [at, inserted] = id.emplace(p, int(lattice.size()));
-    if (inserted) lattice.push_back(p);
-    return at->second;
-  };
-  std::vector<spline::TMeshFace> faces;
-  for (int axis = 0; axis < 3; ++axis)
-    for (int side = 0; side < 2; ++side) {
-      // e1 x e2 is the outward normal.
-      const int a1 = (axis + (side ? 1 : 2)) % 3, a2 = (axis + (side ? 2 : 1)) % 3;
-      for (int j = 0; j < k; ++j)
-        for (int i = 0; i < k; ++i) {
-          const auto at = [&](int di, int dj) {
-            std::array<int, 3> p{};
-            p[axis] = side * k;
-            p[a1] = i + di;
-            p[a2] = j + dj;
-            return vertex(p);
-          };
-          spline::TMeshFace face;
-          face.vertices = {at(0, 0), at(1, 0), at(1, 1), at(0, 1)};
-          face.positions = {{0.0, 0.0}, {1.0, 0.0}, {1.0, 1.0}, {0.0, 1.0}};
-          faces.push_back(face);
-        }
-    }
-  const spline::TMesh mesh = spline::buildTMesh(int(lattice.size()), std::move(faces));
-  const spline::TSplineSpace space(mesh);
-  Eigen::MatrixXd control(space.numBasis(), 3);
-  for (int a = 0; a < space.numBasis(); ++a)
-    for (int c = 0; c < 3; ++c)
-      control(a, c) =
-          2.0 * lattice[std::size_t(space.anchors()[a].vertex)][std::size_t(c)] / k - 1.0;
-  return tsplineModel(mesh, control);
+  const test::CubeTMesh cube = test::cubeTMesh(k);
+  return tsplineModel(cube.mesh,
+                      test::anchorControl(spline::TSplineSpace(cube.mesh), cube.latticePoints));
 }
 
 // The exported mesh's topology. `valid`: the mesh must also pass validation (no degenerate
@@ -115,22 +62,22 @@ structure::TopologyReport exportedTopology(const std::string& path, bool valid =
 TEST_CASE("tspline_cli: knot1 built, checked, compared with OpenSubdiv and exported", "[cli]") {
   const std::string dir = mspline::test::scratchDirectory("cli_tspline_knot");
   const std::string model = dir + "/k.msp";
-  const auto built =
-      run("spline -q " + realMeshPath("knot1.off") + " --kind tspline --cones none -o " + model);
+  const auto built = runJson("spline -q " + realMeshPath("knot1.off") +
+                             " --kind tspline --cones none -o " + model);
   CHECK(built["control_points"].get<int>() > 0);
   CHECK(built["fit_max_error"].get<double>() < 0.01);
   const spline::SplineModel loaded = io::readSplineModel(model);
   REQUIRE(loaded.kind == spline::SplineKind::TSpline);
   const int faces = loaded.tmesh.numFaces();
 
-  const auto check = run("check " + model);
+  const auto check = runJson("check " + model);
   CHECK(check["passed"] == true);
   CHECK(check["max_chart_discrepancy"].get<double>() <= 1e-12);
   CHECK(check["partition_of_unity_error"].get<double>() <= 1e-12);
 
   // A seamless torus grid: every face is a regular Catmull-Clark patch and the same uniform
   // bicubic B-spline on both sides.
-  const auto osd = run("compare-osd " + model + " --samples 20000 --seed 3");
+  const auto osd = runJson("compare-osd " + model + " --samples 20000 --seed 3");
   WARN("knot1 compare-osd: " << osd.dump());
   CHECK(osd["t_junctions"] == 0);
   CHECK(osd["extraordinary_points"] == 0);
@@ -151,7 +98,7 @@ TEST_CASE("tspline_cli: knot1 built, checked, compared with OpenSubdiv and expor
   const int r = 3;
   const std::string obj = dir + "/k.obj";
   const auto exported =
-      run("export " + model + " -o " + obj + " --resolution " + std::to_string(r));
+      runJson("export " + model + " -o " + obj + " --resolution " + std::to_string(r));
   CHECK(exported["vertices"] == r * r * faces);
   CHECK(exported["faces"] == 2 * r * r * faces);
   CHECK(exported["hole_samples"] == 0);
@@ -172,7 +119,7 @@ TEST_CASE("tspline_cli: knot1 built, checked, compared with OpenSubdiv and expor
   const double diagonal = (meshHi - meshLo).matrix().norm();
   CHECK((lo - meshLo).abs().maxCoeff() <= 0.01 * diagonal);
   CHECK((hi - meshHi).abs().maxCoeff() <= 0.01 * diagonal);
-  const auto ply = run("export " + model + " -o " + dir + "/k.ply --resolution 1");
+  const auto ply = runJson("export " + model + " -o " + dir + "/k.ply --resolution 1");
   CHECK(ply["faces"] == 2 * faces);
   CHECK(exportedTopology(dir + "/k.ply").genus == 1);
 }
@@ -181,17 +128,18 @@ TEST_CASE("tspline_cli: T-junctions are refused by compare-osd, extraordinary po
           "[cli]") {
   const std::string dir = mspline::test::scratchDirectory("cli_tspline_tmeshes");
   std::srand(5);
-  const spline::TMesh block = mergedBlock();
+  const spline::TMesh block = test::mergedBlock();
   const int blockBasis = spline::TSplineSpace(block).numBasis();
   io::writeSplineModel(dir + "/block.msp",
                        tsplineModel(block, Eigen::MatrixXd::Random(blockBasis, 3)));
   const auto refused = runCommand(cliPath() + " compare-osd " + dir + "/block.msp");
   CHECK(refused.exitCode == 2);
   CHECK_THAT(refused.err, Catch::Contains("block.msp") && Catch::Contains("T-junctions"));
-  const auto refusedJson = run("compare-osd " + dir + "/block.msp", 2);
+  const auto refusedJson = runJson("compare-osd " + dir + "/block.msp", 2);
   CHECK(refusedJson["error"]["kind"] == "input");
   // The same model exports: an open disk (the block's face stitched to its 8 boundary edges).
-  const auto exported = run("export " + dir + "/block.msp -o " + dir + "/block.obj --resolution 4");
+  const auto exported =
+      runJson("export " + dir + "/block.msp -o " + dir + "/block.obj --resolution 4");
   CHECK(exported["hole_samples"] == 0);
   const auto blockTopology = exportedTopology(dir + "/block.obj");
   CHECK(blockTopology.components == 1);
@@ -201,7 +149,7 @@ TEST_CASE("tspline_cli: T-junctions are refused by compare-osd, extraordinary po
   // A cube: 8 valence-3 vertices where the T-spline has holes; compare-osd still compares.
   const int k = 8;
   io::writeSplineModel(dir + "/cube.msp", cubeModel(k));
-  const auto cube = run("compare-osd " + dir + "/cube.msp --samples 4000");
+  const auto cube = runJson("compare-osd " + dir + "/cube.msp --samples 4000");
   WARN("cube compare-osd: " << cube.dump());
   CHECK(cube["t_junctions"] == 0);
   CHECK(cube["extraordinary_points"] == 8);
@@ -213,7 +161,8 @@ TEST_CASE("tspline_cli: T-junctions are refused by compare-osd, extraordinary po
   const auto text = runCommand(cliPath() + " compare-osd " + dir + "/cube.msp --samples 1000");
   CHECK(text.exitCode == 0);
   CHECK_THAT(text.out, Catch::Contains("1000 samples on 168 regular and 216 irregular faces"));
-  const auto cubeExport = run("export " + dir + "/cube.msp -o " + dir + "/cube.obj --resolution 2");
+  const auto cubeExport =
+      runJson("export " + dir + "/cube.msp -o " + dir + "/cube.obj --resolution 2");
   CHECK(cubeExport["hole_samples"] == 8);
   CHECK(cubeExport["min_denominator"].get<double>() > 0.0);
   // Near a corner only some blending functions reach the cube's edges, and where a single one
@@ -229,8 +178,8 @@ TEST_CASE("tspline_cli: T-junctions are refused by compare-osd, extraordinary po
 TEST_CASE("tspline_cli: bad input exits 2 naming the file, writing nothing", "[cli]") {
   const std::string dir = mspline::test::scratchDirectory("cli_tspline_bad");
   // A triangular B-spline model.
-  run("spline -q " + realMeshPath("knot1.off") + " --cones none --control 500 -o " + dir +
-      "/tri.msp");
+  runJson("spline -q " + realMeshPath("knot1.off") + " --cones none --control 500 -o " + dir +
+          "/tri.msp");
   const auto triangular = runCommand(cliPath() + " compare-osd " + dir + "/tri.msp");
   CHECK(triangular.exitCode == 2);
   CHECK_THAT(triangular.err,

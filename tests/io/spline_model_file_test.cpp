@@ -6,7 +6,6 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
-#include <numeric>
 #include <random>
 #include <string>
 
@@ -16,6 +15,7 @@
 #include "structure/errors.h"
 #include "support/test_data.h"
 #include "support/test_meshes.h"
+#include "support/test_tmeshes.h"
 
 using namespace mspline;
 
@@ -122,10 +122,7 @@ constexpr int kColumns = 6, kRows = 5;
 SplineModel tsplineModel() {
   SplineModel model;
   model.kind = spline::SplineKind::TSpline;
-  std::vector<double> xKnots(kColumns + 1), yKnots(kRows + 1);
-  std::iota(xKnots.begin(), xKnots.end(), 0.0);
-  std::iota(yKnots.begin(), yKnots.end(), 0.0);
-  model.tmesh = spline::gridTMesh(xKnots, yKnots, true, true);
+  model.tmesh = spline::gridTMesh(test::unitKnots(kColumns), test::unitKnots(kRows), true, true);
   const int vertices = kColumns * kRows;
   const auto id = [](int i, int j) { return (j % kRows) * kColumns + i % kColumns; };
   model.surfaceVertices.resize(vertices, 3);
@@ -200,6 +197,31 @@ std::string inputError(const std::string& path) {
     return error.what();
   }
   return "";
+}
+
+// Every cut of `bytes` short of its end, written to `path`, is an input error naming the file
+// and saying it is empty or truncated.
+void checkEveryTruncation(const std::string& path, const std::string& bytes) {
+  for (std::size_t length = 0; length < bytes.size(); ++length) {
+    writeBytes(path, bytes.substr(0, length));
+    const std::string message = inputError(path);
+    INFO("cut at " << length << ": " << message);
+    CHECK(message.find(path) != std::string::npos);
+    CHECK(message.find(length == 0 ? "empty" : "truncated") != std::string::npos);
+  }
+}
+
+// expect(name, bytes, words): the bytes, written to dir/name, are an input error naming the file
+// with `words` in its message.
+auto corruptFileCheck(const std::string& dir) {
+  return [dir](const std::string& name, const std::string& bytes, const std::string& words) {
+    const std::string path = dir + "/" + name;
+    writeBytes(path, bytes);
+    const std::string message = inputError(path);
+    INFO(name << ": " << message);
+    CHECK(message.find(path) != std::string::npos);
+    CHECK(message.find(words) != std::string::npos);
+  };
 }
 
 }  // namespace
@@ -277,13 +299,7 @@ TEST_CASE("spline_model_file: every truncation is an input error naming the file
   const std::string bytes = test::fileText(dir + "/good.msp");
   REQUIRE(bytes.size() == Layout::size);
   const std::string path = dir + "/cut.msp";
-  for (std::size_t length = 0; length < bytes.size(); ++length) {
-    writeBytes(path, bytes.substr(0, length));
-    const std::string message = inputError(path);
-    INFO("cut at " << length << ": " << message);
-    CHECK(message.find(path) != std::string::npos);
-    CHECK(message.find(length == 0 ? "empty" : "truncated") != std::string::npos);
-  }
+  checkEveryTruncation(path, bytes);
   // Cuts name the section they fall in.
   writeBytes(path, bytes.substr(0, Layout::domainFaces + 100));
   CHECK(inputError(path).find("domain faces section") != std::string::npos);
@@ -297,15 +313,7 @@ TEST_CASE("spline_model_file: corrupt files are input errors naming the file and
   io::writeSplineModel(dir + "/good.msp", awkwardModel());
   const std::string good = test::fileText(dir + "/good.msp");
   REQUIRE(good.size() == Layout::size);
-  const auto expect = [&](const std::string& name, const std::string& bytes,
-                          const std::string& words) {
-    const std::string path = dir + "/" + name;
-    writeBytes(path, bytes);
-    const std::string message = inputError(path);
-    INFO(name << ": " << message);
-    CHECK(message.find(path) != std::string::npos);
-    CHECK(message.find(words) != std::string::npos);
-  };
+  const auto expect = corruptFileCheck(dir);
   const auto nan = std::numeric_limits<double>::quiet_NaN();
   const auto huge = std::uint32_t(std::numeric_limits<std::int32_t>::max());
 
@@ -495,13 +503,7 @@ TEST_CASE("spline_model_file: every truncation of a T-spline file is an input er
   const std::string bytes = test::fileText(dir + "/good.msp");
   REQUIRE(bytes.size() == TLayout::size);
   const std::string path = dir + "/cut.msp";
-  for (std::size_t length = 0; length < bytes.size(); ++length) {
-    writeBytes(path, bytes.substr(0, length));
-    const std::string message = inputError(path);
-    INFO("cut at " << length << ": " << message);
-    CHECK(message.find(path) != std::string::npos);
-    CHECK(message.find(length == 0 ? "empty" : "truncated") != std::string::npos);
-  }
+  checkEveryTruncation(path, bytes);
   const auto cutAt = [&](std::size_t length) {
     writeBytes(path, bytes.substr(0, length));
     return inputError(path);
@@ -520,15 +522,7 @@ TEST_CASE("spline_model_file: corrupt T-spline files are input errors naming the
   io::writeSplineModel(dir + "/good.msp", tsplineModel());
   const std::string good = test::fileText(dir + "/good.msp");
   REQUIRE(good.size() == TLayout::size);
-  const auto expect = [&](const std::string& name, const std::string& bytes,
-                          const std::string& words) {
-    const std::string path = dir + "/" + name;
-    writeBytes(path, bytes);
-    const std::string message = inputError(path);
-    INFO(name << ": " << message);
-    CHECK(message.find(path) != std::string::npos);
-    CHECK(message.find(words) != std::string::npos);
-  };
+  const auto expect = corruptFileCheck(dir);
   const auto nan = std::numeric_limits<double>::quiet_NaN();
   const auto huge = std::uint32_t(std::numeric_limits<std::int32_t>::max());
   const std::size_t n = TLayout::vertices;

@@ -4,20 +4,12 @@
 
 #include "spline/tmesh.h"
 #include "structure/errors.h"
+#include "support/test_tmeshes.h"
 
 using namespace mspline;
 using spline::QuarterMotion;
 using spline::TMesh;
-
-namespace {
-
-std::vector<double> range(int n) {
-  std::vector<double> values;
-  for (int i = 0; i <= n; ++i) values.push_back(i);
-  return values;
-}
-
-}  // namespace
+using test::unitKnots;
 
 TEST_CASE("tmesh: quarter motions compose and invert exactly", "[spline]") {
   const QuarterMotion a{1, Eigen::Vector2d(2.0, -3.0)}, b{3, Eigen::Vector2d(-1.0, 5.0)};
@@ -30,7 +22,7 @@ TEST_CASE("tmesh: quarter motions compose and invert exactly", "[spline]") {
 }
 
 TEST_CASE("tmesh: a grid's faces, vertex angles and frame changes", "[spline]") {
-  const TMesh grid = spline::gridTMesh(range(4), range(3));
+  const TMesh grid = spline::gridTMesh(unitKnots(4), unitKnots(3));
   CHECK(grid.numVertices == 20);
   CHECK(grid.numFaces() == 12);
   int boundary = 0, regularInterior = 0;
@@ -51,7 +43,7 @@ TEST_CASE("tmesh: a grid's faces, vertex angles and frame changes", "[spline]") 
 }
 
 TEST_CASE("tmesh: a periodic grid is a closed torus of regular vertices", "[spline]") {
-  const TMesh torus = spline::gridTMesh(range(5), range(4), true, true);
+  const TMesh torus = spline::gridTMesh(unitKnots(5), unitKnots(4), true, true);
   CHECK(torus.numVertices == 20);
   for (int v = 0; v < torus.numVertices; ++v) {
     CHECK_FALSE(torus.onBoundary[v]);
@@ -60,7 +52,8 @@ TEST_CASE("tmesh: a periodic grid is a closed torus of regular vertices", "[spli
   // Crossing the seam from the last column to the first: a translation by the period.
   CHECK(torus.acrossEdge(4, 1).translation == Eigen::Vector2d(-1.0, 0.0));
   CHECK(torus.faces[4].twinFace[1] == 0);
-  CHECK_THROWS_AS(spline::gridTMesh(range(2), range(4), true, false), structure::InputError);
+  CHECK_THROWS_AS(spline::gridTMesh(unitKnots(2), unitKnots(4), true, false),
+                  structure::InputError);
 }
 
 TEST_CASE("tmesh: rectangles with T-junctions", "[spline]") {

@@ -1,8 +1,6 @@
 #include <catch2/catch.hpp>
 
-#include <array>
 #include <cmath>
-#include <map>
 #include <random>
 #include <vector>
 
@@ -12,11 +10,16 @@
 #include "spline/tspline_bezier.h"
 #include "spline/tspline_osd.h"
 #include "structure/errors.h"
+#include "support/test_tmeshes.h"
 
 using namespace mspline;
 using spline::OsdComparison;
 using spline::OsdFaceClass;
 using spline::TSplineSpace;
+using test::anchorControl;
+using test::cubeTMesh;
+using test::CubeTMesh;
+using test::randomPoints;
 
 namespace {
 
@@ -26,70 +29,6 @@ std::vector<double> knotLines(int count, double spacing = 1.0) {
   std::vector<double> knots;
   for (int i = 0; i < count; ++i) knots.push_back(i * spacing);
   return knots;
-}
-
-// Control points of the anchors from a position per T-mesh vertex.
-Eigen::MatrixXd anchorControl(const TSplineSpace& space, const Eigen::MatrixXd& vertexPoints) {
-  Eigen::MatrixXd control(space.numBasis(), 3);
-  for (int a = 0; a < space.numBasis(); ++a)
-    control.row(a) = vertexPoints.row(space.anchors()[a].vertex);
-  return control;
-}
-
-Eigen::MatrixXd randomPoints(int rows, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  Eigen::MatrixXd points(rows, 3);
-  for (int r = 0; r < rows; ++r) points.row(r) << unit(rng), unit(rng), unit(rng);
-  return points;
-}
-
-// The surface of a cube [0, k]^3 made of 6 k x k unit cells: vertices the integer points on it,
-// each cube face walked counter-clockwise around its outward normal, and each vertex's point the
-// lattice point (centred and scaled to [-1, 1]^3) plus a little noise. The 8 corners are
-// extraordinary vertices of valence 3.
-struct CubeTMesh {
-  spline::TMesh mesh;
-  Eigen::MatrixXd vertexPoints;
-};
-
-CubeTMesh cubeTMesh(int k, unsigned seed) {
-  std::map<std::array<int, 3>, int> id;
-  std::vector<std::array<int, 3>> lattice;
-  const auto vertex = [&](const std::array<int, 3>& p) {
-    const auto [at, inserted] = id.emplace(p, static_cast<int>(lattice.size()));
-    if (inserted) lattice.push_back(p);
-    return at->second;
-  };
-  std::vector<spline::TMeshFace> faces;
-  for (int axis = 0; axis < 3; ++axis)
-    for (int side = 0; side < 2; ++side) {
-      // e1 x e2 is the outward normal: +e_axis on side 1, -e_axis on side 0.
-      const int a1 = (axis + (side ? 1 : 2)) % 3, a2 = (axis + (side ? 2 : 1)) % 3;
-      for (int j = 0; j < k; ++j)
-        for (int i = 0; i < k; ++i) {
-          const auto at = [&](int di, int dj) {
-            std::array<int, 3> p{};
-            p[axis] = side * k;
-            p[a1] = i + di;
-            p[a2] = j + dj;
-            return vertex(p);
-          };
-          spline::TMeshFace face;
-          face.vertices = {at(0, 0), at(1, 0), at(1, 1), at(0, 1)};
-          face.positions = {{0.0, 0.0}, {1.0, 0.0}, {1.0, 1.0}, {0.0, 1.0}};
-          faces.push_back(face);
-        }
-    }
-  CubeTMesh cube;
-  cube.mesh = spline::buildTMesh(static_cast<int>(lattice.size()), std::move(faces));
-  const Eigen::MatrixXd noise = randomPoints(static_cast<int>(lattice.size()), seed) * 0.02;
-  cube.vertexPoints.resize(static_cast<Eigen::Index>(lattice.size()), 3);
-  for (std::size_t v = 0; v < lattice.size(); ++v)
-    for (int c = 0; c < 3; ++c)
-      cube.vertexPoints(Eigen::Index(v), c) =
-          2.0 * lattice[v][c] / k - 1.0 + noise(Eigen::Index(v), c);
-  return cube;
 }
 
 // Independent of compareWithOpenSubdiv's sampling: at `perFace` random points of every regular

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <queue>
 #include <random>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -12,12 +12,16 @@
 #include "spline/tspline.h"
 #include "spline/tspline_refine.h"
 #include "structure/errors.h"
+#include "support/test_tmeshes.h"
 
 using namespace mspline;
 using spline::FaceSplit;
 using spline::TMesh;
 using spline::TSplineRefinement;
 using spline::TSplineSpace;
+using test::planarVertices;
+using test::randomPoints;
+using test::randomWeights;
 
 namespace {
 
@@ -31,21 +35,6 @@ std::vector<double> knotLines(std::mt19937& rng, bool uniform) {
   return lines;
 }
 
-Eigen::MatrixXd randomControl(int n, std::mt19937& rng) {
-  std::uniform_real_distribution<double> coordinate(-1.0, 1.0);
-  Eigen::MatrixXd control(n, 3);
-  for (int i = 0; i < n; ++i)
-    for (int c = 0; c < 3; ++c) control(i, c) = coordinate(rng);
-  return control;
-}
-
-Eigen::VectorXd randomWeights(int n, std::mt19937& rng) {
-  std::uniform_real_distribution<double> weight(0.5, 2.0);
-  Eigen::VectorXd weights(n);
-  for (int i = 0; i < n; ++i) weights[i] = weight(rng);
-  return weights;
-}
-
 double bboxDiagonal(const Eigen::MatrixXd& control) {
   return (control.colwise().maxCoeff() - control.colwise().minCoeff()).norm();
 }
@@ -55,15 +44,12 @@ Eigen::Vector2d randomPointIn(const spline::TMeshFace& face, std::mt19937& rng) 
   return {unit(rng) * face.width, unit(rng) * face.height};
 }
 
-struct Deviation {
-  double position = 0.0;    // max |new - old| / bbox diagonal
-  double derivative = 0.0;  // max |new - old| of ds, dt / max |old ds, dt|
-};
-
-// The refined surface against the input one at `samples` random points of the refined T-mesh.
-Deviation compareSurfaces(const TSplineSpace& space, const Eigen::MatrixXd& control,
-                          const Eigen::VectorXd& weights, const TSplineRefinement& refined,
-                          int samples, std::mt19937& rng) {
+// The refined surface is the input one at `samples` random points of the refined T-mesh: the
+// largest |new - old| is below 1e-12 of the bounding box diagonal in position, and of the largest
+// |old ds, dt| in the derivatives ds, dt.
+void checkSameSurface(const std::string& name, const TSplineSpace& space,
+                      const Eigen::MatrixXd& control, const Eigen::VectorXd& weights,
+                      const TSplineRefinement& refined, int samples, std::mt19937& rng) {
   std::uniform_int_distribution<int> anyFace(0, refined.space.mesh().numFaces() - 1);
   double position = 0.0, derivative = 0.0, derivativeScale = 0.0;
   for (int s = 0; s < samples; ++s) {
@@ -79,33 +65,11 @@ Deviation compareSurfaces(const TSplineSpace& space, const Eigen::MatrixXd& cont
         std::max({derivative, (after.ds - before.ds).norm(), (after.dt - before.dt).norm()});
     derivativeScale = std::max({derivativeScale, before.ds.norm(), before.dt.norm()});
   }
-  return {position / bboxDiagonal(control), derivative / derivativeScale};
-}
-
-// Per vertex of a planar T-mesh (translations only), its position in the frame of face 0.
-std::vector<Eigen::Vector2d> vertexPositions(const TMesh& mesh) {
-  std::vector<Eigen::Vector2d> origin(mesh.faces.size()), position(mesh.numVertices);
-  std::vector<char> placed(mesh.faces.size(), 0);
-  std::queue<int> queue;
-  origin[0] = Eigen::Vector2d::Zero();
-  placed[0] = 1;
-  queue.push(0);
-  while (!queue.empty()) {
-    const int f = queue.front();
-    queue.pop();
-    const spline::TMeshFace& face = mesh.faces[f];
-    for (std::size_t k = 0; k < face.vertices.size(); ++k) {
-      position[face.vertices[k]] = origin[f] + face.positions[k];
-      const int g = face.twinFace[k];
-      if (g < 0 || placed[g]) continue;
-      const spline::QuarterMotion m = mesh.acrossEdge(f, static_cast<int>(k));
-      REQUIRE(m.quarterTurns == 0);
-      origin[g] = origin[f] - m.translation;
-      placed[g] = 1;
-      queue.push(g);
-    }
-  }
-  return position;
+  position /= bboxDiagonal(control);
+  derivative /= derivativeScale;
+  WARN(name << ": max deviation: position " << position << ", derivatives " << derivative);
+  CHECK(position < 1e-12);
+  CHECK(derivative < 1e-12);
 }
 
 int indexOf(const std::vector<double>& lines, double x) {
@@ -132,7 +96,7 @@ UnityCheck checkUnity(const TSplineSpace& space, const std::vector<char>& use, i
     if (use[f]) faces.push_back(f);
   REQUIRE(!faces.empty());
   std::uniform_int_distribution<std::size_t> anyFace(0, faces.size() - 1);
-  const Eigen::MatrixXd control = randomControl(space.numBasis(), rng);
+  const Eigen::MatrixXd control = randomPoints(space.numBasis(), rng);
   const Eigen::VectorXd weights = randomWeights(space.numBasis(), rng);
   std::vector<spline::TSplineBasisValue> basis;
   for (int s = 0; s < samples; ++s) {
@@ -156,7 +120,7 @@ UnityCheck checkUnity(const TSplineSpace& space, const std::vector<char>& use, i
 // functions sum to less than one there and the rational normalization takes over.
 std::vector<char> innerFaces(const TMesh& mesh, const std::vector<double>& xs,
                              const std::vector<double>& ys) {
-  const std::vector<Eigen::Vector2d> positions = vertexPositions(mesh);
+  const std::vector<Eigen::Vector2d> positions = planarVertices(mesh);
   std::vector<char> inner(mesh.faces.size(), 0);
   for (int f = 0; f < mesh.numFaces(); ++f) {
     const spline::TMeshFace& face = mesh.faces[f];
@@ -280,7 +244,7 @@ TEST_CASE("tspline_refine: refinement leaves the surface unchanged", "[spline]")
     const std::vector<double> xs = knotLines(rng, c.uniform), ys = knotLines(rng, c.uniform);
     TMesh mesh = spline::gridTMesh(xs, ys);
     const TSplineSpace space(mesh);
-    const Eigen::MatrixXd control = randomControl(space.numBasis(), rng);
+    const Eigen::MatrixXd control = randomPoints(space.numBasis(), rng);
     const Eigen::VectorXd weights = randomWeights(space.numBasis(), rng);
     std::vector<FaceSplit> splits;
     for (const FaceSplit& s : c.fractions) {
@@ -300,11 +264,7 @@ TEST_CASE("tspline_refine: refinement leaves the surface unchanged", "[spline]")
           space.mesh().numFaces() + static_cast<int>(splits.size()) + refined.extraSplits);
     CHECK(refined.space.numBasis() == refined.space.mesh().numVertices);
     CHECK(refined.minWeight > 0.0);
-    const Deviation deviation = compareSurfaces(space, control, weights, refined, 10000, rng);
-    WARN(c.name << ": max deviation: position " << deviation.position << ", derivatives "
-                << deviation.derivative);
-    CHECK(deviation.position < 1e-12);
-    CHECK(deviation.derivative < 1e-12);
+    checkSameSurface(c.name, space, control, weights, refined, 10000, rng);
   }
 }
 
@@ -312,7 +272,7 @@ TEST_CASE("tspline_refine: a full knot line is Boehm's knot insertion", "[spline
   std::mt19937 rng(31);
   const std::vector<double> xs = knotLines(rng, false), ys = knotLines(rng, false);
   const TSplineSpace space(spline::gridTMesh(xs, ys));
-  const Eigen::MatrixXd control = randomControl(space.numBasis(), rng);
+  const Eigen::MatrixXd control = randomPoints(space.numBasis(), rng);
   const Eigen::VectorXd weights = randomWeights(space.numBasis(), rng);
   const int column = 4;
   const double inserted = xs[column] + 0.3 * (xs[column + 1] - xs[column]);
@@ -342,7 +302,7 @@ TEST_CASE("tspline_refine: a full knot line is Boehm's knot insertion", "[spline
     h << weights[a] * control.row(a).transpose(), weights[a];
     return h;
   };
-  const std::vector<Eigen::Vector2d> positions = vertexPositions(refined.space.mesh());
+  const std::vector<Eigen::Vector2d> positions = planarVertices(refined.space.mesh());
   double maxError = 0.0;
   for (int b = 0; b < refined.space.numBasis(); ++b) {
     const int vertex = refined.space.anchors()[b].vertex;
@@ -371,7 +331,7 @@ TEST_CASE("tspline_refine: a cut next to the open boundary is reported", "[splin
   std::mt19937 rng(41);
   const std::vector<double> xs = knotLines(rng, true), ys = knotLines(rng, true);
   const TSplineSpace space(spline::gridTMesh(xs, ys));
-  const Eigen::MatrixXd control = randomControl(space.numBasis(), rng);
+  const Eigen::MatrixXd control = randomPoints(space.numBasis(), rng);
   spline::RefineOptions options;
   options.maxExtensionRounds = 12;
   const TSplineRefinement refined =
@@ -387,7 +347,7 @@ TEST_CASE("tspline_refine: refinement on a periodic grid", "[spline]") {
   const std::vector<double> xs = knotLines(rng, false), ys = knotLines(rng, false);
   const TSplineSpace space(spline::gridTMesh(xs, ys, true, true));
   REQUIRE(space.numBasis() == kCells * kCells);
-  const Eigen::MatrixXd control = randomControl(space.numBasis(), rng);
+  const Eigen::MatrixXd control = randomPoints(space.numBasis(), rng);
   const Eigen::VectorXd weights = randomWeights(space.numBasis(), rng);
   const std::vector<FaceSplit> splits{{2 * kCells + 7, 1, 0.5 * (ys[3] - ys[2])},
                                       {9 * kCells + 1, 0, 0.5 * (xs[2] - xs[1])}};
@@ -395,11 +355,7 @@ TEST_CASE("tspline_refine: refinement on a periodic grid", "[spline]") {
   WARN("periodic grid: residual " << refined.residual << ", extra splits " << refined.extraSplits
                                   << " in " << refined.extensionRounds << " rounds");
   REQUIRE(refined.converged);
-  const Deviation deviation = compareSurfaces(space, control, weights, refined, 10000, rng);
-  WARN("periodic: max deviation: position " << deviation.position << ", derivatives "
-                                            << deviation.derivative);
-  CHECK(deviation.position < 1e-12);
-  CHECK(deviation.derivative < 1e-12);
+  checkSameSurface("periodic", space, control, weights, refined, 10000, rng);
 }
 
 TEST_CASE("tspline_refine: a cut closes around a periodic grid", "[spline]") {
@@ -408,7 +364,7 @@ TEST_CASE("tspline_refine: a cut closes around a periodic grid", "[spline]") {
   std::mt19937 rng(52);
   const std::vector<double> xs = knotLines(rng, false), ys = knotLines(rng, false);
   const TSplineSpace space(spline::gridTMesh(xs, ys, true, true));
-  const Eigen::MatrixXd control = randomControl(space.numBasis(), rng);
+  const Eigen::MatrixXd control = randomPoints(space.numBasis(), rng);
   const Eigen::VectorXd weights = randomWeights(space.numBasis(), rng);
   spline::RefineOptions options;
   options.tolerance = -1.0;
@@ -422,9 +378,7 @@ TEST_CASE("tspline_refine: a cut closes around a periodic grid", "[spline]") {
   CHECK(refined.space.numBasis() == kCells * (kCells + 1));
   for (const spline::TMeshFace& face : refined.space.mesh().faces) CHECK(face.vertices.size() == 4);
   CHECK(refined.residual < 1e-12);
-  const Deviation deviation = compareSurfaces(space, control, weights, refined, 2000, rng);
-  CHECK(deviation.position < 1e-12);
-  CHECK(deviation.derivative < 1e-12);
+  checkSameSurface("closing cut", space, control, weights, refined, 2000, rng);
 }
 
 TEST_CASE("tspline_refine: faces with turned frames", "[spline]") {
@@ -446,7 +400,7 @@ TEST_CASE("tspline_refine: faces with turned frames", "[spline]") {
       turned[j * kCells + i] = 1;
     }
   const TSplineSpace space(spline::buildTMesh(grid.numVertices, faces));
-  const Eigen::MatrixXd control = randomControl(space.numBasis(), rng);
+  const Eigen::MatrixXd control = randomPoints(space.numBasis(), rng);
   const Eigen::VectorXd weights = randomWeights(space.numBasis(), rng);
   // Faces 44 and 55 are turned: a cut along their frame's x = const runs along the grid's y.
   REQUIRE((turned[44] && turned[55] && !turned[45]));
@@ -476,17 +430,13 @@ TEST_CASE("tspline_refine: faces with turned frames", "[spline]") {
   CHECK(refined.extraSplits == reference.extraSplits);
   CHECK(refined.changedFunctions == reference.changedFunctions);
   CHECK(refined.unknowns == reference.unknowns);
-  const Deviation deviation = compareSurfaces(space, control, weights, refined, 10000, rng);
-  WARN("turned frames: max deviation: position " << deviation.position << ", derivatives "
-                                                 << deviation.derivative);
-  CHECK(deviation.position < 1e-12);
-  CHECK(deviation.derivative < 1e-12);
+  checkSameSurface("turned frames", space, control, weights, refined, 10000, rng);
 }
 
 TEST_CASE("tspline_refine: no splits keep the control points", "[spline]") {
   std::mt19937 rng(61);
   const TSplineSpace space(spline::gridTMesh(knotLines(rng, false), knotLines(rng, false)));
-  const Eigen::MatrixXd control = randomControl(space.numBasis(), rng);
+  const Eigen::MatrixXd control = randomPoints(space.numBasis(), rng);
   const Eigen::VectorXd weights = randomWeights(space.numBasis(), rng);
   const TSplineRefinement refined = spline::refine(space, control, weights, {});
   CHECK(refined.converged);
@@ -511,7 +461,7 @@ TEST_CASE("tspline_refine: bad input throws", "[spline]") {
   CHECK_THROWS_AS(spline::splitFace(grid, 0, 0, 1.5), InputError);
   CHECK_THROWS_AS(spline::splitFace(grid, 0, 0, std::nan("")), InputError);
   const TSplineSpace space(grid);
-  const Eigen::MatrixXd control = randomControl(space.numBasis(), rng);
+  const Eigen::MatrixXd control = randomPoints(space.numBasis(), rng);
   CHECK_THROWS_AS(spline::refine(space, control.topRows(3), {}, {}), InputError);
   CHECK_THROWS_AS(spline::refine(space, control, Eigen::VectorXd::Ones(3), {}), InputError);
   CHECK_THROWS_WITH(spline::refine(space, control, {}, {{44, 0, 0.5}, {44, 0, 0.7}}),

@@ -1,69 +1,22 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <map>
-#include <random>
 #include <vector>
 
 #include "spline/tspline.h"
 #include "spline/tspline_tessellate.h"
 #include "structure/errors.h"
+#include "support/test_tmeshes.h"
 
 using namespace mspline;
 using spline::TMesh;
 using spline::TSplineSpace;
+using test::randomWeights;
+using test::unitKnots;
 
 namespace {
-
-std::vector<double> range(int n) {
-  std::vector<double> values;
-  for (int i = 0; i <= n; ++i) values.push_back(i);
-  return values;
-}
-
-// The unit cells of an n x n grid, some replaced by the merged rectangles [x0, y0, x1, y1].
-TMesh gridWithMerges(int n, const std::vector<std::array<int, 4>>& merged) {
-  std::vector<std::array<int, 4>> rectangles = merged;
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const bool covered = std::any_of(merged.begin(), merged.end(), [&](const auto& r) {
-        return i >= r[0] && i < r[2] && j >= r[1] && j < r[3];
-      });
-      if (!covered) rectangles.push_back({i, j, i + 1, j + 1});
-    }
-  Eigen::MatrixX2d lo(rectangles.size(), 2), hi(rectangles.size(), 2);
-  for (std::size_t r = 0; r < rectangles.size(); ++r) {
-    lo.row(Eigen::Index(r)) << rectangles[r][0], rectangles[r][1];
-    hi.row(Eigen::Index(r)) << rectangles[r][2], rectangles[r][3];
-  }
-  return spline::planarTMesh(lo, hi);
-}
-
-// Global positions of the vertices of a planar T-mesh (faces' frames are translations of the
-// plane), walking from face 0 placed at the origin.
-std::vector<Eigen::Vector2d> planarVertices(const TMesh& mesh) {
-  std::vector<Eigen::Vector2d> origin(mesh.faces.size(), Eigen::Vector2d::Zero());
-  std::vector<Eigen::Vector2d> vertex(std::size_t(mesh.numVertices), Eigen::Vector2d::Zero());
-  std::vector<char> done(mesh.faces.size(), 0);
-  std::vector<int> stack{0};
-  done[0] = 1;
-  while (!stack.empty()) {
-    const int f = stack.back();
-    stack.pop_back();
-    for (std::size_t k = 0; k < mesh.faces[f].vertices.size(); ++k) {
-      vertex[std::size_t(mesh.faces[f].vertices[k])] =
-          origin[std::size_t(f)] + mesh.faces[f].positions[k];
-      const int g = mesh.faces[f].twinFace[k];
-      if (g < 0 || done[std::size_t(g)]) continue;
-      origin[std::size_t(g)] = origin[std::size_t(f)] - mesh.acrossEdge(f, int(k)).translation;
-      done[std::size_t(g)] = 1;
-      stack.push_back(g);
-    }
-  }
-  return vertex;
-}
 
 struct EdgeUse {
   bool oriented = true;    // no directed edge twice
@@ -108,18 +61,10 @@ double worstAgainstEvaluate(const TSplineSpace& space, const Eigen::MatrixXd& co
   return worst;
 }
 
-Eigen::VectorXd randomWeights(int n, unsigned seed) {
-  std::mt19937 random(seed);
-  std::uniform_real_distribution<double> weight(0.5, 2.0);
-  Eigen::VectorXd weights(n);
-  for (Eigen::Index i = 0; i < n; ++i) weights[i] = weight(random);
-  return weights;
-}
-
 }  // namespace
 
 TEST_CASE("tspline_tessellate: a periodic grid gives a closed torus", "[spline]") {
-  const TSplineSpace space(spline::gridTMesh(range(6), {0.0, 1.0, 2.5, 3.0, 4.0}, true, true));
+  const TSplineSpace space(spline::gridTMesh(unitKnots(6), {0.0, 1.0, 2.5, 3.0, 4.0}, true, true));
   const TMesh& mesh = space.mesh();
   std::srand(3);
   const Eigen::MatrixXd control = Eigen::MatrixXd::Random(space.numBasis(), 3);
@@ -147,8 +92,8 @@ TEST_CASE("tspline_tessellate: T-junction faces are stitched watertight", "[spli
   // A 2 x 2 block with four T-junctions facing each other, and a line stopping at a T-junction
   // with its neighbours merged two by two (faces with 5 and 6 boundary vertices).
   for (const TMesh& mesh :
-       {gridWithMerges(6, {{2, 2, 4, 4}}),
-        gridWithMerges(8, {{3, 4, 5, 5}, {3, 5, 5, 6}, {3, 6, 5, 7}, {0, 0, 3, 2}})}) {
+       {test::mergedBlock(),
+        test::gridWithMerges(8, {{3, 4, 5, 5}, {3, 5, 5, 6}, {3, 6, 5, 7}, {0, 0, 3, 2}})}) {
     const TSplineSpace space(mesh);
     long tmeshEdges = 0, tmeshBoundaryEdges = 0, tJunctionFaces = 0;
     for (const auto& face : mesh.faces) {
@@ -162,7 +107,7 @@ TEST_CASE("tspline_tessellate: T-junction faces are stitched watertight", "[spli
     REQUIRE(tJunctionFaces > 0);
     // Control points at the anchors' places in the plane: the surface is a map of the plane close
     // to the identity, so its triangles keep the frames' counter-clockwise orientation.
-    const std::vector<Eigen::Vector2d> place = planarVertices(mesh);
+    const std::vector<Eigen::Vector2d> place = test::planarVertices(mesh);
     Eigen::MatrixXd control(space.numBasis(), 3);
     for (int a = 0; a < space.numBasis(); ++a)
       control.row(a) << place[std::size_t(space.anchors()[a].vertex)].transpose(), 0.0;
@@ -200,40 +145,10 @@ TEST_CASE("tspline_tessellate: holes at extraordinary vertices are closed withou
           "[spline]") {
   // The surface of the cube [0, k]^3 in unit cells: 8 extraordinary vertices of valence 3, where
   // the T-spline has no blending function and the denominator vanishes.
-  const int k = 5;
-  std::map<std::array<int, 3>, int> id;
-  std::vector<std::array<int, 3>> lattice;
-  const auto vertex = [&](const std::array<int, 3>& p) {
-    const auto [at, inserted] = id.emplace(p, int(lattice.size()));
-    if (inserted) lattice.push_back(p);
-    return at->second;
-  };
-  std::vector<spline::TMeshFace> faces;
-  for (int axis = 0; axis < 3; ++axis)
-    for (int side = 0; side < 2; ++side) {
-      const int a1 = (axis + (side ? 1 : 2)) % 3, a2 = (axis + (side ? 2 : 1)) % 3;
-      for (int j = 0; j < k; ++j)
-        for (int i = 0; i < k; ++i) {
-          const auto at = [&](int di, int dj) {
-            std::array<int, 3> p{};
-            p[axis] = side * k;
-            p[a1] = i + di;
-            p[a2] = j + dj;
-            return vertex(p);
-          };
-          spline::TMeshFace face;
-          face.vertices = {at(0, 0), at(1, 0), at(1, 1), at(0, 1)};
-          face.positions = {{0.0, 0.0}, {1.0, 0.0}, {1.0, 1.0}, {0.0, 1.0}};
-          faces.push_back(face);
-        }
-    }
-  const TSplineSpace space(spline::buildTMesh(int(lattice.size()), std::move(faces)));
+  const test::CubeTMesh cube = test::cubeTMesh(5);
+  const TSplineSpace space(cube.mesh);
   const TMesh& mesh = space.mesh();
-  Eigen::MatrixXd control(space.numBasis(), 3);
-  for (int a = 0; a < space.numBasis(); ++a)
-    for (int c = 0; c < 3; ++c)
-      control(a, c) =
-          2.0 * lattice[std::size_t(space.anchors()[a].vertex)][std::size_t(c)] / k - 1.0;
+  const Eigen::MatrixXd control = test::anchorControl(space, cube.latticePoints);
   for (int r : {1, 4}) {
     INFO("resolution " << r);
     const auto t = spline::tessellateTSpline(space, control, {}, r);
@@ -278,7 +193,7 @@ TEST_CASE("tspline_tessellate: holes at extraordinary vertices are closed withou
 }
 
 TEST_CASE("tspline_tessellate: bad resolution and sizes are refused", "[spline]") {
-  const TSplineSpace space(spline::gridTMesh(range(4), range(4), true, true));
+  const TSplineSpace space(spline::gridTMesh(unitKnots(4), unitKnots(4), true, true));
   const Eigen::MatrixXd control = Eigen::MatrixXd::Zero(space.numBasis(), 3);
   CHECK_THROWS_AS(spline::tessellateTSpline(space, control, {}, 0), structure::InputError);
   CHECK_THROWS_AS(spline::tessellateTSpline(space, Eigen::MatrixXd::Zero(3, 3), {}, 2),

@@ -6,88 +6,25 @@
 #include <random>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "spline/tspline.h"
 #include "spline/tspline_bezier.h"
 #include "spline/tspline_check.h"
 #include "structure/errors.h"
+#include "support/test_tmeshes.h"
 
 using namespace mspline;
 using spline::TMesh;
 using spline::TSplineSpace;
-
-namespace {
-
-std::vector<double> range(int n) {
-  std::vector<double> values;
-  for (int i = 0; i <= n; ++i) values.push_back(i);
-  return values;
-}
-
-// The unit cells of an n x n grid, some replaced by the merged rectangles [x0, y0, x1, y1].
-TMesh gridWithMerges(int n, const std::vector<std::array<int, 4>>& merged) {
-  std::vector<std::array<int, 4>> rectangles = merged;
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const bool covered = std::any_of(merged.begin(), merged.end(), [&](const auto& r) {
-        return i >= r[0] && i < r[2] && j >= r[1] && j < r[3];
-      });
-      if (!covered) rectangles.push_back({i, j, i + 1, j + 1});
-    }
-  Eigen::MatrixX2d lo(rectangles.size(), 2), hi(rectangles.size(), 2);
-  for (std::size_t r = 0; r < rectangles.size(); ++r) {
-    lo.row(Eigen::Index(r)) << rectangles[r][0], rectangles[r][1];
-    hi.row(Eigen::Index(r)) << rectangles[r][2], rectangles[r][3];
-  }
-  return spline::planarTMesh(lo, hi);
-}
-
-// The 2 x 2 block [2,4]^2 of a 6 x 6 grid as one face (face 0): four T-junctions facing each
-// other, so the T-mesh is not analysis-suitable.
-TMesh mergedBlock() {
-  return gridWithMerges(6, {{2, 2, 4, 4}});
-}
-
-// An 8 x 8 grid whose line x = 4 stops at the T-junction (4, 4) (face 0 at (3, 4)):
-// analysis-suitable.
-TMesh stoppedLine() {
-  return gridWithMerges(8, {{3, 4, 5, 5}, {3, 5, 5, 6}, {3, 6, 5, 7}, {3, 7, 5, 8}});
-}
-
-// Global position of a vertex of a planar T-mesh: faces' frames are translations of the plane,
-// and planarTMesh starts each face at its lower-left corner.
-int vertexAt(const TMesh& mesh, const std::vector<Eigen::Vector2d>& origin, Eigen::Vector2d p) {
-  for (int f = 0; f < mesh.numFaces(); ++f)
-    for (std::size_t k = 0; k < mesh.faces[f].vertices.size(); ++k)
-      if ((origin[std::size_t(f)] + mesh.faces[f].positions[k] - p).norm() < 1e-12)
-        return mesh.faces[f].vertices[k];
-  return -1;
-}
-
-// Lower-left corners of the faces, walking from face 0 at `first`.
-std::vector<Eigen::Vector2d> faceOrigins(const TMesh& mesh, const Eigen::Vector2d& first) {
-  std::vector<Eigen::Vector2d> origin(mesh.faces.size(), first);
-  std::vector<char> done(mesh.faces.size(), 0);
-  std::vector<int> stack{0};
-  done[0] = 1;
-  while (!stack.empty()) {
-    const int f = stack.back();
-    stack.pop_back();
-    for (std::size_t k = 0; k < mesh.faces[f].vertices.size(); ++k) {
-      const int g = mesh.faces[f].twinFace[k];
-      if (g < 0 || done[std::size_t(g)]) continue;
-      // A point x of f's frame is x + origin(f) globally and across(x) + origin(g).
-      origin[std::size_t(g)] = origin[std::size_t(f)] - mesh.acrossEdge(f, int(k)).translation;
-      done[std::size_t(g)] = 1;
-      stack.push_back(g);
-    }
-  }
-  return origin;
-}
-
-}  // namespace
+using test::faceOrigins;
+using test::mergedBlock;
+using test::stoppedLine;
+using test::unitKnots;
+using test::vertexAt;
 
 TEST_CASE("tspline: a uniform grid has uniform knots, padded beyond its boundary", "[spline]") {
-  const TSplineSpace space(spline::gridTMesh(range(8), range(8)));
+  const TSplineSpace space(spline::gridTMesh(unitKnots(8), unitKnots(8)));
   CHECK(space.numBasis() == 81);
   CHECK(space.missingAnchors().empty());
   for (const auto& anchor : space.anchors()) {
@@ -180,10 +117,9 @@ TEST_CASE("tspline: derivatives of the rational surface match finite differences
   const TMesh mesh = mergedBlock();
   const TSplineSpace space(mesh);
   std::mt19937 random(6);
-  std::uniform_real_distribution<double> unit(0.05, 0.95), weight(0.5, 2.0);
+  std::uniform_real_distribution<double> unit(0.05, 0.95);
   const Eigen::MatrixXd control = Eigen::MatrixXd::Random(space.numBasis(), 3);
-  Eigen::VectorXd weights(space.numBasis());
-  for (Eigen::Index i = 0; i < weights.size(); ++i) weights[i] = weight(random);
+  const Eigen::VectorXd weights = test::randomWeights(space.numBasis(), random);
   const double h = 1e-5;
   for (int f = 0; f < mesh.numFaces(); ++f) {
     const auto& face = mesh.faces[f];
@@ -197,18 +133,25 @@ TEST_CASE("tspline: derivatives of the rational surface match finite differences
     CHECK((point.dss - (at(h, 0).ds - at(-h, 0).ds) / (2 * h)).norm() < 1e-6);
     CHECK((point.dst - (at(0, h).ds - at(0, -h).ds) / (2 * h)).norm() < 1e-6);
     CHECK((point.dtt - (at(0, h).dt - at(0, -h).dt) / (2 * h)).norm() < 1e-6);
+    // The unit normal, perpendicular to both tangents.
+    REQUIRE(point.normal.size() == 3);
+    CHECK(point.normal.norm() == Approx(1.0).margin(1e-12));
+    CHECK(std::abs(point.normal.dot(point.ds)) <= 1e-12 * point.ds.norm());
+    CHECK(std::abs(point.normal.dot(point.dt)) <= 1e-12 * point.dt.norm());
+    CHECK(Eigen::Vector3d(point.ds)
+              .cross(Eigen::Vector3d(point.dt))
+              .dot(Eigen::Vector3d(point.normal)) > 0.0);
   }
 }
 
 TEST_CASE("tspline: Bezier extraction reproduces the T-spline", "[spline]") {
   for (const TMesh& mesh :
-       {mergedBlock(), stoppedLine(), spline::gridTMesh(range(7), range(6), true, true)}) {
+       {mergedBlock(), stoppedLine(), spline::gridTMesh(unitKnots(7), unitKnots(6), true, true)}) {
     const TSplineSpace space(mesh);
     std::mt19937 random(7);
-    std::uniform_real_distribution<double> unit(0.0, 1.0), weight(0.5, 2.0);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
     const Eigen::MatrixXd control = Eigen::MatrixXd::Random(space.numBasis(), 3);
-    Eigen::VectorXd weights(space.numBasis());
-    for (Eigen::Index i = 0; i < weights.size(); ++i) weights[i] = weight(random);
+    const Eigen::VectorXd weights = test::randomWeights(space.numBasis(), random);
     const spline::TSplineBezier bezier(space, control, weights);
     CHECK(bezier.numElements() >= mesh.numFaces());
     double worst = 0.0, worstDerivative = 0.0;
@@ -229,7 +172,7 @@ TEST_CASE("tspline: Bezier extraction reproduces the T-spline", "[spline]") {
 }
 
 TEST_CASE("tspline: a periodic grid is a closed partition of unity, seamless", "[spline]") {
-  const TSplineSpace space(spline::gridTMesh(range(9), range(5), true, true));
+  const TSplineSpace space(spline::gridTMesh(unitKnots(9), unitKnots(5), true, true));
   CHECK(space.numBasis() == 45);
   const Eigen::MatrixXd control = Eigen::MatrixXd::Random(space.numBasis(), 3);
   spline::TSplineCheckOptions options;
@@ -243,7 +186,7 @@ TEST_CASE("tspline: a periodic grid is a closed partition of unity, seamless", "
 }
 
 TEST_CASE("tspline: wrong control point counts are refused", "[spline]") {
-  const TSplineSpace space(spline::gridTMesh(range(4), range(4)));
+  const TSplineSpace space(spline::gridTMesh(unitKnots(4), unitKnots(4)));
   CHECK_THROWS_AS(space.evaluate(Eigen::MatrixXd::Zero(3, 3), {}, 0, Eigen::Vector2d(0.5, 0.5)),
                   structure::InputError);
   CHECK_THROWS_AS(space.evaluate(Eigen::MatrixXd::Zero(25, 3), Eigen::VectorXd::Ones(2), 0,

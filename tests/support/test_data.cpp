@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "io/load_mesh.h"
@@ -67,6 +68,13 @@ CommandResult runCommand(const std::string& commandLine) {
   fs::remove(stem + ".out");
   fs::remove(stem + ".err");
   return result;
+}
+
+nlohmann::json runJson(const std::string& arguments, int expectedExit) {
+  const CommandResult result = runCommand(cliPath() + " " + arguments + " --json");
+  INFO(arguments << "\nstderr: " << result.err);
+  REQUIRE(result.exitCode == expectedExit);
+  return nlohmann::json::parse(result.out);
 }
 
 }  // namespace mspline::test

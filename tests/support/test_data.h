@@ -1,5 +1,6 @@
 #pragma once
 // Real meshes fetched by scripts/fetch-data into data/ (git-ignored).
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 
 #include "structure/tri_mesh.h"
@@ -29,5 +30,9 @@ struct CommandResult {
   std::string err;
 };
 CommandResult runCommand(const std::string& commandLine);
+
+/// Runs `mspline <arguments> --json` and returns its parsed standard output; the test stops,
+/// showing the command's stderr, unless it exits with `expectedExit`.
+nlohmann::json runJson(const std::string& arguments, int expectedExit = 0);
 
 }  // namespace mspline::test
