@@ -51,11 +51,7 @@ int checkTSplineModel(const CheckArguments& a, const spline::SplineModel& model,
       std::max({check.chartDiscrepancy, check.knotRouteDiscrepancy, check.bezierDiscrepancy});
   // A closed T-mesh without T-junctions is a partition of unity away from the vertices without
   // function (around extraordinary points); elsewhere the rational normalization is reported.
-  bool noTJunctions = true;
-  for (std::size_t v = 0; v < model.tmesh.onBoundary.size(); ++v)
-    noTJunctions = noTJunctions && !model.tmesh.onBoundary[v];
-  for (const auto& face : model.tmesh.faces)
-    noTJunctions = noTJunctions && face.vertices.size() == 4;
+  const bool noTJunctions = !model.tmesh.hasBoundary() && model.tmesh.numTJunctions() == 0;
   const bool passed =
       discrepancy <= 1e-12 && (!noTJunctions || check.partitionOfUnityErrorAway <= 1e-12);
   Json report{{"file", a.model},

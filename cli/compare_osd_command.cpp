@@ -48,10 +48,8 @@ void addCompareOsdCommand(CLI::App& app, Command& command) {
                          ": compare-osd needs a T-spline model (this is a triangular B-spline "
                          "model; build one with `mspline spline --kind tspline`)");
       const spline::TSplineSpace space(model.tmesh);
-      int tJunctions = 0, extraordinary = 0;
-      for (const auto& face : model.tmesh.faces) tJunctions += int(face.vertices.size()) - 4;
-      for (int v = 0; v < model.tmesh.numVertices; ++v)
-        extraordinary += model.tmesh.isExtraordinary(v);
+      const int tJunctions = model.tmesh.numTJunctions(),
+                extraordinary = model.tmesh.numExtraordinary();
       const double loadSeconds = clock.lap();
       spline::OsdCompareOptions options;
       options.samples = a.samples;

@@ -167,9 +167,8 @@ int buildTSpline(const SplineArguments& a, const TriMesh& surface, const Flatten
   const double diagonal = boxDiagonal(model.surfaceVertices);
   double total = 0.0;
   for (const auto& [name, seconds] : stages.items()) total += seconds.get<double>();
-  int tJunctions = 0, extraordinary = 0;
-  for (const auto& face : model.tmesh.faces) tJunctions += int(face.vertices.size()) - 4;
-  for (int v = 0; v < model.tmesh.numVertices; ++v) extraordinary += model.tmesh.isExtraordinary(v);
+  const int tJunctions = model.tmesh.numTJunctions(),
+            extraordinary = model.tmesh.numExtraordinary();
   Json report{{"file", a.mesh},
               {"output", a.output},
               {"kind", a.kind},

@@ -12,6 +12,22 @@ namespace mspline::spline {
 
 using structure::InputError;
 
+int TMesh::numTJunctions() const {
+  int count = 0;
+  for (const auto& face : faces) count += int(face.vertices.size()) - 4;
+  return count;
+}
+
+int TMesh::numExtraordinary() const {
+  int count = 0;
+  for (int v = 0; v < numVertices; ++v) count += isExtraordinary(v);
+  return count;
+}
+
+bool TMesh::hasBoundary() const {
+  return std::any_of(onBoundary.begin(), onBoundary.end(), [](char b) { return b != 0; });
+}
+
 QuarterMotion TMesh::acrossEdge(int face, int edge) const {
   const TMeshFace& f = faces.at(face);
   const int other = f.twinFace.at(edge);

@@ -71,6 +71,11 @@ struct TMesh {
   bool isExtraordinary(int vertex) const {
     return !onBoundary[vertex] && quarterTurnsAround[vertex] != 4;
   }
+  /// T-junctions (vertices inside a side of a face, counted per face side) and extraordinary
+  /// vertices; a boundary vertex counts when it lies on an edge without twin.
+  int numTJunctions() const;
+  int numExtraordinary() const;
+  bool hasBoundary() const;
   /// Frame change across boundary edge `edge` of `face`: maps the face's frame onto its twin's.
   /// Throws InputError at the boundary.
   QuarterMotion acrossEdge(int face, int edge) const;

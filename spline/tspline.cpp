@@ -403,27 +403,31 @@ TSplinePoint TSplineSpace::evaluate(const Eigen::MatrixXd& control, const Eigen:
   return rationalPoint(control, weights, basis, derivatives);
 }
 
+FaceKnots2d knotsInFace(const TSplineAnchor& anchor, const QuarterMotion& toChart) {
+  // A chart axis maps to a face axis, maybe reversed (then the knots come out descending).
+  const QuarterMotion back = toChart.inverse();
+  const bool sAlongX = std::abs(back.rotate({1.0, 0.0}).x()) > 0.5;
+  FaceKnots2d knots;
+  for (std::size_t i = 0; i < 5; ++i) {
+    const Eigen::Vector2d sLine = back.apply({anchor.sKnots[i], 0.0});
+    const Eigen::Vector2d tLine = back.apply({0.0, anchor.tKnots[i]});
+    knots.xKnots[i] = sAlongX ? sLine.x() : tLine.x();
+    knots.yKnots[i] = sAlongX ? tLine.y() : sLine.y();
+  }
+  std::sort(knots.xKnots.begin(), knots.xKnots.end());
+  std::sort(knots.yKnots.begin(), knots.yKnots.end());
+  return knots;
+}
+
 TSplinePoint TSplineSpace::evaluateMovingKnots(const Eigen::MatrixXd& control,
                                                const Eigen::VectorXd& weights, int face,
                                                const Eigen::Vector2d& p) const {
   checkControl(*this, control, weights, face);
   std::vector<TSplineBasisValue> basis;
   for (const TSplinePiece& piece : pieces_[face]) {
-    const TSplineAnchor& a = anchors_[piece.anchor];
-    // The chart's knot lines in the face frame: a chart axis maps to a face axis, maybe reversed.
-    const QuarterMotion back = piece.toChart.inverse();
-    const Eigen::Vector2d sAxis = back.rotate({1.0, 0.0});
-    std::array<double, 5> xKnots{}, yKnots{};
-    for (std::size_t i = 0; i < 5; ++i) {
-      const Eigen::Vector2d sLine = back.apply({a.sKnots[i], 0.0});
-      const Eigen::Vector2d tLine = back.apply({0.0, a.tKnots[i]});
-      const bool sAlongX = std::abs(sAxis.x()) > 0.5;
-      (sAlongX ? xKnots : yKnots)[i] = sAlongX ? sLine.x() : sLine.y();
-      (sAlongX ? yKnots : xKnots)[i] = sAlongX ? tLine.y() : tLine.x();
-    }
-    std::sort(xKnots.begin(), xKnots.end());
-    std::sort(yKnots.begin(), yKnots.end());
-    const double value = cubicBSpline(xKnots.data(), p.x()) * cubicBSpline(yKnots.data(), p.y());
+    const FaceKnots2d knots = knotsInFace(anchors_[piece.anchor], piece.toChart);
+    const double value =
+        cubicBSpline(knots.xKnots.data(), p.x()) * cubicBSpline(knots.yKnots.data(), p.y());
     if (value != 0.0) basis.push_back({piece.anchor, value});
   }
   return rationalPoint(control, weights, basis, 0);

@@ -56,6 +56,16 @@ struct TSplinePiece {
   QuarterMotion toChart;
 };
 
+/// A blending function's knot lines in the frame of a face: its chart axes turned onto the face's
+/// (x = xKnots, y = yKnots), each sorted ascending. The function there is
+/// cubicBSpline(xKnots, x) * cubicBSpline(yKnots, y).
+struct FaceKnots2d {
+  std::array<double, 5> xKnots{}, yKnots{};
+};
+
+/// The knots of `anchor` seen from a face whose frame goes into the anchor's chart by `toChart`.
+FaceKnots2d knotsInFace(const TSplineAnchor& anchor, const QuarterMotion& toChart);
+
 /// A vertex without a blending function, and why.
 struct TSplineMissingAnchor {
   int vertex = -1;

@@ -48,29 +48,6 @@ const Eigen::Matrix4d& valuesToBernstein() {
   return inverse;
 }
 
-// A blending function restricted to a face: the product of B-splines on face-frame knots.
-struct FaceFactor {
-  int anchor = -1;
-  std::array<double, 5> xKnots{}, yKnots{};
-};
-
-FaceFactor faceFactor(const TSplineSpace& space, const TSplinePiece& piece) {
-  const TSplineAnchor& a = space.anchors()[piece.anchor];
-  const QuarterMotion back = piece.toChart.inverse();
-  const bool sAlongX = std::abs(back.rotate({1.0, 0.0}).x()) > 0.5;
-  FaceFactor factor;
-  factor.anchor = piece.anchor;
-  for (std::size_t i = 0; i < 5; ++i) {
-    const Eigen::Vector2d sLine = back.apply({a.sKnots[i], 0.0});
-    const Eigen::Vector2d tLine = back.apply({0.0, a.tKnots[i]});
-    (sAlongX ? factor.xKnots : factor.yKnots)[i] = sAlongX ? sLine.x() : sLine.y();
-    (sAlongX ? factor.yKnots : factor.xKnots)[i] = sAlongX ? tLine.y() : tLine.x();
-  }
-  std::sort(factor.xKnots.begin(), factor.xKnots.end());
-  std::sort(factor.yKnots.begin(), factor.yKnots.end());
-  return factor;
-}
-
 std::vector<double> splitLines(double length, std::vector<double> lines, double tolerance) {
   lines.push_back(0.0);
   lines.push_back(length);
@@ -110,12 +87,13 @@ TSplineBezier::TSplineBezier(const TSplineSpace& space, const Eigen::MatrixXd& c
   for (int f = 0; f < mesh.numFaces(); ++f) {
     const TMeshFace& face = mesh.faces[f];
     const double tolerance = 1e-9 * std::max(face.width, face.height);
-    std::vector<FaceFactor> factors;
+    std::vector<std::pair<int, FaceKnots2d>> factors;
     std::vector<double> xLines, yLines;
     for (const TSplinePiece& piece : space.pieces(f)) {
-      factors.push_back(faceFactor(space, piece));
-      xLines.insert(xLines.end(), factors.back().xKnots.begin(), factors.back().xKnots.end());
-      yLines.insert(yLines.end(), factors.back().yKnots.begin(), factors.back().yKnots.end());
+      const FaceKnots2d knots = knotsInFace(space.anchors()[piece.anchor], piece.toChart);
+      factors.emplace_back(piece.anchor, knots);
+      xLines.insert(xLines.end(), knots.xKnots.begin(), knots.xKnots.end());
+      yLines.insert(yLines.end(), knots.yKnots.begin(), knots.yKnots.end());
     }
     splitsX_[f] = splitLines(face.width, xLines, tolerance);
     splitsY_[f] = splitLines(face.height, yLines, tolerance);
@@ -128,15 +106,15 @@ TSplineBezier::TSplineBezier(const TSplineSpace& space, const Eigen::MatrixXd& c
         element.lo = {xs[i], ys[j]};
         element.hi = {xs[i + 1], ys[j + 1]};
         element.points.setZero();
-        for (const FaceFactor& factor : factors) {
-          const auto cx = bernsteinOf(factor.xKnots, xs[i], xs[i + 1]);
-          const auto cy = bernsteinOf(factor.yKnots, ys[j], ys[j + 1]);
+        for (const auto& [anchor, knots] : factors) {
+          const auto cx = bernsteinOf(knots.xKnots, xs[i], xs[i + 1]);
+          const auto cy = bernsteinOf(knots.yKnots, ys[j], ys[j + 1]);
           if (std::all_of(cx.begin(), cx.end(), [](double c) { return c == 0.0; }) ||
               std::all_of(cy.begin(), cy.end(), [](double c) { return c == 0.0; }))
             continue;
-          const double w = weights.size() ? weights[factor.anchor] : 1.0;
+          const double w = weights.size() ? weights[anchor] : 1.0;
           Eigen::RowVector4d homogeneous;
-          homogeneous << w * control.row(factor.anchor), w;
+          homogeneous << w * control.row(anchor), w;
           for (int b = 0; b < 4; ++b)
             for (int a = 0; a < 4; ++a)
               element.points.row(4 * b + a) += cx[a] * cy[b] * homogeneous;
@@ -148,7 +126,7 @@ TSplineBezier::TSplineBezier(const TSplineSpace& space, const Eigen::MatrixXd& c
 }
 
 void TSplineBezier::evaluate(int face, const Eigen::Vector2d& p, Eigen::Vector3d& position,
-                             Eigen::Vector3d* ds, Eigen::Vector3d* dt) const {
+                             Eigen::Vector3d* ds, Eigen::Vector3d* dt, double* denominator) const {
   const auto& xs = splitsX_[face];
   const auto& ys = splitsY_[face];
   const std::size_t nx = xs.size() - 1, ny = ys.size() - 1;
@@ -174,6 +152,7 @@ void TSplineBezier::evaluate(int face, const Eigen::Vector2d& p, Eigen::Vector3d
     hu += bv[b] * rowU;
     hv += dv[b] * row;
   }
+  if (denominator) *denominator = h[3];
   if (!(h[3] > 0.0)) {
     position.setConstant(std::numeric_limits<double>::quiet_NaN());
     if (ds) *ds = position;

@@ -36,10 +36,12 @@ class TSplineBezier {
   /// splitsX[f].size() - 1 by splitsY[f].size() - 1, x fastest.
   const std::vector<int>& firstElement() const { return first_; }
 
-  /// Position and, when asked for, first derivatives along the face frame's axes at p (in face f's
-  /// frame, inside its rectangle). In a hole (denominator 0) the result is NaN.
+  /// Position and, when asked for, first derivatives along the face frame's axes and the
+  /// denominator sum_i w_i N_i at p (in face f's frame, inside its rectangle). In a hole
+  /// (denominator 0) the position and derivatives are NaN.
   void evaluate(int face, const Eigen::Vector2d& p, Eigen::Vector3d& position,
-                Eigen::Vector3d* ds = nullptr, Eigen::Vector3d* dt = nullptr) const;
+                Eigen::Vector3d* ds = nullptr, Eigen::Vector3d* dt = nullptr,
+                double* denominator = nullptr) const;
   /// The same for many points, one row each.
   void evaluate(const std::vector<TMeshPoint>& points, Eigen::MatrixX3d& position,
                 Eigen::MatrixX3d& ds, Eigen::MatrixX3d& dt) const;

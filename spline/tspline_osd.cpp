@@ -87,21 +87,11 @@ bool completeUniformFace(const TSplineSpace& space, FaceDeveloper& developer, in
     if (i == -2 || j == -2 || !used.emplace(std::make_pair(i, j), 0).second) return false;
     const auto at = vertexAt.find({i, j});
     if (at == vertexAt.end() || at->second != a.vertex) return false;
-    // The knots in the face frame: a chart axis maps to a face axis, maybe reversed.
-    const bool sAlongX = std::abs(back.rotate({1.0, 0.0}).x()) > 0.5;
-    std::array<double, 5> xKnots{}, yKnots{};
-    for (std::size_t k = 0; k < 5; ++k) {
-      const Eigen::Vector2d sLine = back.apply({a.sKnots[k], 0.0});
-      const Eigen::Vector2d tLine = back.apply({0.0, a.tKnots[k]});
-      (sAlongX ? xKnots : yKnots)[k] = sAlongX ? sLine.x() : sLine.y();
-      (sAlongX ? yKnots : xKnots)[k] = sAlongX ? tLine.y() : tLine.x();
-    }
-    std::sort(xKnots.begin(), xKnots.end());
-    std::sort(yKnots.begin(), yKnots.end());
+    const FaceKnots2d knots = knotsInFace(a, piece.toChart);
     for (std::size_t k = 0; k < 5; ++k) {
       const double offset = double(k) - 2.0;
-      if (std::abs(xKnots[k] - (anchor.x() + offset * w)) > tolerance ||
-          std::abs(yKnots[k] - (anchor.y() + offset * h)) > tolerance)
+      if (std::abs(knots.xKnots[k] - (anchor.x() + offset * w)) > tolerance ||
+          std::abs(knots.yKnots[k] - (anchor.y() + offset * h)) > tolerance)
         return false;
     }
   }

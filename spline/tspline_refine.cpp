@@ -332,13 +332,10 @@ class Reexpression {
   static void addKnotLines(const TSplineAnchor& anchor, const QuarterMotion& toChart,
                            const Eigen::Vector2d& offset,
                            std::array<std::vector<double>, 2>& lines) {
-    const QuarterMotion back = toChart.inverse();
-    const bool sAlongX = std::abs(back.rotate({1.0, 0.0}).x()) > 0.5;
+    const FaceKnots2d knots = knotsInFace(anchor, toChart);
     for (std::size_t i = 0; i < 5; ++i) {
-      const Eigen::Vector2d sLine = back.apply({anchor.sKnots[i], 0.0}) - offset;
-      const Eigen::Vector2d tLine = back.apply({0.0, anchor.tKnots[i]}) - offset;
-      lines[0].push_back(sAlongX ? sLine.x() : tLine.x());
-      lines[1].push_back(sAlongX ? tLine.y() : sLine.y());
+      lines[0].push_back(knots.xKnots[i] - offset.x());
+      lines[1].push_back(knots.yKnots[i] - offset.y());
     }
   }
 

@@ -21,61 +21,6 @@ constexpr double kHoleOffset = 1e-3;
 // Below this denominator (times the largest weight) points are evaluated directly.
 constexpr double kSmallDenominator = 1e-6;
 
-void cubicBernstein(double u, double b[4]) {
-  const double v = 1.0 - u;
-  b[0] = v * v * v;
-  b[1] = 3.0 * u * v * v;
-  b[2] = 3.0 * u * u * v;
-  b[3] = u * u * u;
-}
-
-// The denominator sum_i w_i N_i: the weight column of the Bezier element TSplineBezier::evaluate
-// picks for the point (TSplineBezier reports positions only).
-class Denominator {
- public:
-  explicit Denominator(const TSplineBezier& bezier) : bezier_(bezier) {
-    const auto& elements = bezier.elements();
-    const auto& first = bezier.firstElement();
-    for (std::size_t f = 0; f + 1 < first.size(); ++f) {
-      const std::size_t begin = std::size_t(first[f]), end = std::size_t(first[f + 1]);
-      std::size_t columns = 1;
-      while (begin + columns < end && elements[begin + columns].lo.y() == elements[begin].lo.y())
-        ++columns;
-      std::vector<double> xs, ys;
-      for (std::size_t i = 0; i < columns; ++i) xs.push_back(elements[begin + i].lo.x());
-      xs.push_back(elements[begin + columns - 1].hi.x());
-      for (std::size_t e = begin; e < end; e += columns) ys.push_back(elements[e].lo.y());
-      ys.push_back(elements[end - 1].hi.y());
-      splitsX_.push_back(std::move(xs));
-      splitsY_.push_back(std::move(ys));
-    }
-  }
-
-  double operator()(int face, const Eigen::Vector2d& p) const {
-    const auto cell = [](const std::vector<double>& splits, double x) {
-      const std::ptrdiff_t i = std::upper_bound(splits.begin(), splits.end(), x) - splits.begin();
-      return std::size_t(std::clamp<std::ptrdiff_t>(i - 1, 0, std::ptrdiff_t(splits.size()) - 2));
-    };
-    const auto& xs = splitsX_[std::size_t(face)];
-    const auto& ys = splitsY_[std::size_t(face)];
-    const std::size_t i = cell(xs, p.x()), j = cell(ys, p.y());
-    const BezierElement& e =
-        bezier_.elements()[std::size_t(bezier_.firstElement()[std::size_t(face)]) +
-                           j * (xs.size() - 1) + i];
-    double bu[4], bv[4];
-    cubicBernstein((p.x() - e.lo.x()) / (e.hi.x() - e.lo.x()), bu);
-    cubicBernstein((p.y() - e.lo.y()) / (e.hi.y() - e.lo.y()), bv);
-    double sum = 0.0;
-    for (int b = 0; b < 4; ++b)
-      for (int a = 0; a < 4; ++a) sum += bu[a] * bv[b] * e.points(4 * b + a, 3);
-    return sum;
-  }
-
- private:
-  const TSplineBezier& bezier_;
-  std::vector<std::vector<double>> splitsX_, splitsY_;
-};
-
 // Coordinate along side s of a rectangle (0 bottom, 1 right, 2 top, 3 left), increasing in the
 // counter-clockwise direction.
 double alongSide(int s, const Eigen::Vector2d& p) {
@@ -99,7 +44,6 @@ TSplineTessellation tessellateTSpline(const TSplineSpace& space, const Eigen::Ma
     throw InputError("T-spline tessellation: resolution " + std::to_string(resolution) +
                      " is below 1");
   const TSplineBezier bezier(space, control, weights);
-  const Denominator denominator(bezier);
   const TMesh& mesh = space.mesh();
   const int r = resolution;
   TSplineTessellation out;
@@ -112,13 +56,12 @@ TSplineTessellation tessellateTSpline(const TSplineSpace& space, const Eigen::Ma
   // the direct sum over the blending functions decides: exactly 0 in a hole.
   const double smallDenominator = kSmallDenominator * (weights.size() ? weights.maxCoeff() : 1.0);
   const auto surfaceAt = [&](int f, const Eigen::Vector2d& p, Eigen::Vector3d& x) {
-    double d = denominator(f, p);
+    double d = 0.0;
+    bezier.evaluate(f, p, x, nullptr, nullptr, &d);
     if (d < smallDenominator) {
       const TSplinePoint direct = space.evaluate(control, weights, f, p, 0);
       d = direct.denominator;
       x = direct.position;
-    } else {
-      bezier.evaluate(f, p, x);
     }
     if (!(d > 0.0) || !x.allFinite()) return false;
     out.minDenominator = std::min(out.minDenominator, d);
