@@ -116,6 +116,11 @@ void addCheckCommand(CLI::App& app, Command& command) {
       Stopwatch clock;
       const spline::SplineModel model = io::readSplineModel(a.model);
       if (model.kind == spline::SplineKind::TSpline) return checkTSplineModel(a, model, command);
+      // Its evaluation is OpenSubdiv's, checked by the test suite: no chart figures to report.
+      if (model.kind == spline::SplineKind::Subdivision)
+        throw InputError(a.model +
+                         ": check knows triangular B-splines and T-splines; this is a subdivision "
+                         "surface (Catmull-Clark), which has no charts to compare (use export)");
       const spline::TriBSplineSpace space(model.domain, model.knots);
       if (model.controlPoints.rows() != space.numBasis())
         throw InputError(a.model + ": " + std::to_string(model.controlPoints.rows()) +

@@ -39,6 +39,7 @@ void addSplineCommand(CLI::App& app, Command& command);
 void addCheckCommand(CLI::App& app, Command& command);
 void addExportCommand(CLI::App& app, Command& command);
 void addCompareOsdCommand(CLI::App& app, Command& command);
+void addFitCommand(CLI::App& app, Command& command);
 
 /// Prints one JSON object on stdout.
 void printJson(const Json& object);

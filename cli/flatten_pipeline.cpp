@@ -131,7 +131,7 @@ bool isCount(const std::string& text) {
   return !text.empty() && std::all_of(text.begin(), text.end(), ::isdigit);
 }
 
-void addFlattenOptions(CLI::App& sub, FlattenSettings& settings) {
+void addFlattenOptions(CLI::App& sub, FlattenSettings& settings, const std::string& toleranceFlag) {
   sub.add_option("--scheme", settings.scheme,
                  "yamabe (vertex scaling, default), tangential (Thurston circle packing with "
                  "intersection angles from the mesh) or inversive (inversive distance)")
@@ -148,7 +148,7 @@ void addFlattenOptions(CLI::App& sub, FlattenSettings& settings) {
                  "fixed: the boundary becomes a circle; rectangle: four corners of pi/2 and "
                  "straight sides (disks only)")
       ->check(CLI::IsMember({"free", "fixed", "rectangle"}));
-  sub.add_option("--tolerance", settings.tolerance,
+  sub.add_option(toleranceFlag, settings.tolerance,
                  "Stop when max |K - K_target| <= tolerance, in radians (default 1e-10)")
       ->check(CLI::PositiveNumber);
   sub.add_option("--max-iterations", settings.maxIterations, "Newton steps (default 100)")

@@ -49,9 +49,11 @@ struct FlattenSettings {
 /// name is also accepted).
 bool isCount(const std::string& text);
 
-/// Adds --scheme, --cones, --quantize, --single-cone, --boundary, --tolerance,
-/// --max-iterations and -q/--quiet to a subcommand.
-void addFlattenOptions(CLI::App& sub, FlattenSettings& settings);
+/// Adds --scheme, --cones, --quantize, --single-cone, --boundary, --tolerance (named
+/// `toleranceFlag`, for commands with a tolerance of their own), --max-iterations and -q/--quiet
+/// to a subcommand.
+void addFlattenOptions(CLI::App& sub, FlattenSettings& settings,
+                       const std::string& toleranceFlag = "--tolerance");
 
 /// A flat metric with cones, laid out.
 struct Flattening {

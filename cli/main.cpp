@@ -61,6 +61,7 @@ int main(int argc, char** argv) {
   addAtlasCommand(app, command);
   addPictureCommand(app, command);
   addSplineCommand(app, command);
+  addFitCommand(app, command);
   addCheckCommand(app, command);
   addExportCommand(app, command);
   addCompareOsdCommand(app, command);

@@ -107,12 +107,25 @@ void readObj(std::string_view data, const std::string& source, structure::Polygo
   }
 }
 
-void writeObj(std::ostream& out, const structure::PolygonSoup& soup, bool withUVs) {
+void writeObj(std::ostream& out, const structure::PolygonSoup& soup, bool withUVs,
+              const VertexAttributes& attributes) {
   OutputBuffer buffer(out);
   for (const auto& p : soup.positions) {
     buffer.text("v ");
     buffer.pointLine(p);
   }
+  for (const auto& uv : attributes.uvs) {
+    buffer.text("vt ");
+    buffer.number(uv[0]);
+    buffer.character(' ');
+    buffer.number(uv[1]);
+    buffer.character('\n');
+  }
+  for (const auto& n : attributes.normals) {
+    buffer.text("vn ");
+    buffer.pointLine(n);
+  }
+  const bool vertexUVs = !attributes.uvs.empty(), normals = !attributes.normals.empty();
   if (withUVs) {
     for (const auto& faceUVs : soup.cornerUVs) {
       for (const auto& uv : faceUVs) {
@@ -133,8 +146,32 @@ void writeObj(std::ostream& out, const structure::PolygonSoup& soup, bool withUV
       if (withUVs) {
         buffer.character('/');
         buffer.integer(uvIndex++);
+      } else if (vertexUVs) {
+        buffer.character('/');
+        buffer.integer(index + 1);
+      }
+      if (normals) {
+        buffer.text(withUVs || vertexUVs ? "/" : "//");
+        buffer.integer(index + 1);
       }
     }
+    buffer.character('\n');
+  }
+  buffer.flush();
+}
+
+void writeObjLines(std::ostream& out, const std::vector<std::array<double, 3>>& points,
+                   const std::vector<std::array<std::int64_t, 2>>& segments) {
+  OutputBuffer buffer(out);
+  for (const auto& p : points) {
+    buffer.text("v ");
+    buffer.pointLine(p);
+  }
+  for (const auto& segment : segments) {
+    buffer.text("l ");
+    buffer.integer(segment[0] + 1);
+    buffer.character(' ');
+    buffer.integer(segment[1] + 1);
     buffer.character('\n');
   }
   buffer.flush();

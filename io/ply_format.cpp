@@ -383,38 +383,66 @@ void readPly(std::string_view data, const std::string& source, structure::Polygo
   }
 }
 
-void writePly(std::ostream& out, const structure::PolygonSoup& soup, bool binary) {
+void writePly(std::ostream& out, const structure::PolygonSoup& soup, bool binary,
+              const VertexAttributes& attributes) {
   if (soup.positions.size() > static_cast<std::size_t>(std::numeric_limits<std::int32_t>::max()))
     throw structure::InputError("PLY int indices cannot address " +
                                 std::to_string(soup.positions.size()) + " vertices");
   bool smallFaces = true;
   for (const auto& face : soup.faces) smallFaces = smallFaces && face.size() <= 255;
+  const bool normals = !attributes.normals.empty(), colors = !attributes.colors.empty();
 
   OutputBuffer buffer(out);
   buffer.text("ply\nformat ");
   buffer.text(binary ? "binary_little_endian" : "ascii");
   buffer.text(" 1.0\ncomment written by mspline\nelement vertex ");
   buffer.integer(static_cast<std::int64_t>(soup.positions.size()));
-  buffer.text("\nproperty double x\nproperty double y\nproperty double z\nelement face ");
+  buffer.text("\nproperty double x\nproperty double y\nproperty double z");
+  if (normals) buffer.text("\nproperty double nx\nproperty double ny\nproperty double nz");
+  if (colors) buffer.text("\nproperty uchar red\nproperty uchar green\nproperty uchar blue");
+  buffer.text("\nelement face ");
   buffer.integer(static_cast<std::int64_t>(soup.faces.size()));
   buffer.text(smallFaces ? "\nproperty list uchar int vertex_indices\nend_header\n"
                          : "\nproperty list uint int vertex_indices\nend_header\n");
-  if (binary) {
-    for (const auto& p : soup.positions)
-      for (double c : p) buffer.littleEndian(c);
-    for (const auto& face : soup.faces) {
+  for (std::size_t v = 0; v < soup.positions.size(); ++v) {
+    if (binary) {
+      for (double c : soup.positions[v]) buffer.littleEndian(c);
+      if (normals)
+        for (double c : attributes.normals[v]) buffer.littleEndian(c);
+      if (colors)
+        for (std::uint8_t c : attributes.colors[v]) buffer.littleEndian(c);
+      continue;
+    }
+    const auto& p = soup.positions[v];
+    if (!normals && !colors) {
+      buffer.pointLine(p);
+      continue;
+    }
+    for (std::size_t k = 0; k < 3; ++k) {
+      if (k > 0) buffer.character(' ');
+      buffer.number(p[k]);
+    }
+    if (normals)
+      for (double c : attributes.normals[v]) {
+        buffer.character(' ');
+        buffer.number(c);
+      }
+    if (colors)
+      for (std::uint8_t c : attributes.colors[v]) {
+        buffer.character(' ');
+        buffer.integer(c);
+      }
+    buffer.character('\n');
+  }
+  for (const auto& face : soup.faces) {
+    if (binary) {
       if (smallFaces) {
         buffer.littleEndian(static_cast<std::uint8_t>(face.size()));
       } else {
         buffer.littleEndian(static_cast<std::uint32_t>(face.size()));
       }
       for (std::int64_t index : face) buffer.littleEndian(static_cast<std::int32_t>(index));
-    }
-  } else {
-    for (const auto& p : soup.positions) {
-      buffer.pointLine(p);
-    }
-    for (const auto& face : soup.faces) {
+    } else {
       buffer.countedIndexLine(face);
     }
   }

@@ -6,6 +6,7 @@
 #include <string_view>
 #include <vector>
 
+#include "io/write_mesh.h"
 #include "structure/polygon_soup.h"
 
 namespace mspline::io::detail {
@@ -16,7 +17,9 @@ void readPly(std::string_view data, const std::string& source, structure::Polygo
              std::vector<std::string>& warnings);
 
 /// Writes the soup, whose face indices are known to be in range: binary little-endian or
-/// ASCII, positions as doubles.
-void writePly(std::ostream& out, const structure::PolygonSoup& soup, bool binary);
+/// ASCII, positions as doubles; per-vertex normals (double nx ny nz) and colors (uchar red green
+/// blue) when the attributes have them (sizes known to fit).
+void writePly(std::ostream& out, const structure::PolygonSoup& soup, bool binary,
+              const VertexAttributes& attributes = {});
 
 }  // namespace mspline::io::detail

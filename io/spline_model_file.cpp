@@ -25,7 +25,7 @@ using spline::SplineModel;
 using structure::InputError;
 
 constexpr std::string_view kMagic("MSPLINE\x1A", 8);
-constexpr std::uint32_t kVersion = 2;
+constexpr std::uint32_t kVersion = 3;
 // The model indexes with int.
 constexpr std::uint64_t kMaxCount = std::numeric_limits<std::int32_t>::max();
 
@@ -94,6 +94,10 @@ void checkCommon(const SplineModel& model) {
       requireIndex(
           v, vertices, [&] { return "surface face " + str(f) + " has vertex"; },
           "surface vertices");
+  if (!model.surfaceFaceFilled.empty() &&
+      model.surfaceFaceFilled.size() != model.surfaceFaces.size())
+    throw InputError(str(model.surfaceFaceFilled.size()) + " filled-face flags for " +
+                     str(model.surfaceFaces.size()) + " surface faces");
 }
 
 void checkTriangularBSpline(const SplineModel& model) {
@@ -167,15 +171,16 @@ void checkTriangularBSpline(const SplineModel& model) {
 }
 
 // Returns the T-mesh as spline::buildTMesh completes it (widths, heights, twins).
-spline::TMesh checkTSpline(const SplineModel& model) {
-  const char* kind = "T-spline";
+// The fields of T-mesh kinds (T-splines, subdivision surfaces) but for weights and control
+// points; `kind` names the kind in messages.
+spline::TMesh checkTMeshModel(const SplineModel& model, const char* kind) {
   requireNone(model.surfaceVertexLocations.size(), "surface vertex locations", kind);
   requireNone(model.domain.cone.size(), "domain vertices", kind);
   requireNone(model.domain.faces.size(), "domain faces", kind);
   requireNone(model.domainVertexSource.size(), "source surface vertices", kind);
   requireNone(model.knots.size(), "faces of knots", kind);
   if (model.degree != 3)
-    fail("degree " + std::to_string(model.degree) + ", but T-splines are cubic (degree 3)");
+    fail("degree " + std::to_string(model.degree) + ", but " + kind + "s are cubic (degree 3)");
   const std::size_t vertices = std::size_t(model.surfaceVertices.rows());
   if (model.surfaceVertexTMeshPoints.size() != vertices)
     fail(str(model.surfaceVertexTMeshPoints.size()) + " surface vertex T-mesh points for " +
@@ -208,6 +213,11 @@ spline::TMesh checkTSpline(const SplineModel& model) {
            std::to_string(p.y()) + "), outside T-mesh face " + str(std::size_t(point.face)) +
            " ([0, " + std::to_string(face.width) + "] x [0, " + std::to_string(face.height) + "])");
   }
+  return mesh;
+}
+
+spline::TMesh checkTSpline(const SplineModel& model) {
+  spline::TMesh mesh = checkTMeshModel(model, "T-spline");
   const auto weights = std::size_t(model.weights.size());
   const auto rows = std::size_t(model.controlPoints.rows());
   requireCount(weights, "weights");
@@ -232,6 +242,26 @@ spline::TMesh checkTSpline(const SplineModel& model) {
   return mesh;
 }
 
+// Returns the T-mesh as spline::buildTMesh completes it.
+spline::TMesh checkSubdivision(const SplineModel& model) {
+  const char* kind = "subdivision surface";
+  requireNone(std::size_t(model.weights.size()), "weights", kind);
+  if (model.controlPoints.cols() != 3)
+    fail("control points have " + str(std::size_t(model.controlPoints.cols())) +
+         " coordinates, subdivision surfaces need 3");
+  spline::TMesh mesh = checkTMeshModel(model, kind);
+  for (std::size_t f = 0; f < mesh.faces.size(); ++f)
+    if (mesh.faces[f].vertices.size() != 4)
+      fail("T-mesh face " + str(f) + " has " + str(mesh.faces[f].vertices.size()) +
+           " boundary vertices, a subdivision surface's net needs quads (no T-junctions)");
+  checkControlPoints(model.controlPoints);
+  const auto rows = std::size_t(model.controlPoints.rows());
+  if (rows != std::size_t(mesh.numVertices))
+    fail(str(rows) + " control points, but the T-mesh has " + str(std::size_t(mesh.numVertices)) +
+         " vertices");
+  return mesh;
+}
+
 // Everything the reader checks, so that the writer never writes a file the reader rejects.
 // Throws InputError naming the first problem. Returns the completed T-mesh of a T-spline (empty
 // for other kinds), so that the reader builds it once.
@@ -243,6 +273,8 @@ spline::TMesh checkModel(const SplineModel& model) {
       return {};
     case SplineKind::TSpline:
       return checkTSpline(model);
+    case SplineKind::Subdivision:
+      return checkSubdivision(model);
   }
   fail("unknown spline kind " + std::to_string(int(model.kind)));
 }
@@ -345,7 +377,8 @@ void readTriangularBSpline(ModelReader& in, SplineModel& model) {
     }
 }
 
-void readTSpline(ModelReader& in, SplineModel& model) {
+// The T-mesh and the surface vertex T-mesh points (T-splines and subdivision surfaces).
+void readTMeshPart(ModelReader& in, SplineModel& model) {
   in.section("T-mesh");
   spline::TMesh& mesh = model.tmesh;
   mesh.numVertices = in.count(0, "vertices");
@@ -376,7 +409,10 @@ void readTSpline(ModelReader& in, SplineModel& model) {
     point.position.x() = in.value<double>();
     point.position.y() = in.value<double>();
   }
+}
 
+void readTSpline(ModelReader& in, SplineModel& model) {
+  readTMeshPart(in, model);
   in.section("weights");
   model.weights.resize(in.count(8, "weights"));
   for (Eigen::Index i = 0; i < model.weights.size(); ++i) model.weights(i) = in.value<double>();
@@ -424,7 +460,7 @@ void writeTriangularBSpline(ModelWriter& out, const SplineModel& model) {
       }
 }
 
-void writeTSpline(ModelWriter& out, const SplineModel& model) {
+void writeTMeshPart(ModelWriter& out, const SplineModel& model) {
   out.u32(std::size_t(model.tmesh.numVertices));
   out.u32(model.tmesh.faces.size());
   for (const spline::TMeshFace& face : model.tmesh.faces) {
@@ -440,6 +476,10 @@ void writeTSpline(ModelWriter& out, const SplineModel& model) {
     out.f64(point.position.x());
     out.f64(point.position.y());
   }
+}
+
+void writeTSpline(ModelWriter& out, const SplineModel& model) {
+  writeTMeshPart(out, model);
   out.u32(std::size_t(model.weights.size()));
   for (Eigen::Index i = 0; i < model.weights.size(); ++i) out.f64(model.weights(i));
 }
@@ -465,11 +505,15 @@ void writeSplineModel(const std::string& path, const SplineModel& model) {
     out.u32(model.surfaceFaces.size());
     for (const auto& face : model.surfaceFaces)
       for (int v : face) out.i32(v);
+    out.u32(model.surfaceFaceFilled.size());
+    for (const char filled : model.surfaceFaceFilled) out.u8(filled ? 1 : 0);
 
     if (model.kind == SplineKind::TriangularBSpline)
       writeTriangularBSpline(out, model);
-    else
+    else if (model.kind == SplineKind::TSpline)
       writeTSpline(out, model);
+    else
+      writeTMeshPart(out, model);
 
     const auto& control = model.controlPoints;
     out.u32(std::size_t(control.rows()));
@@ -496,12 +540,13 @@ SplineModel readSplineModel(const std::string& path) {
     in.fail("unsupported format version " + str(version) + " (this mspline reads versions 1 to " +
             str(kVersion) + ")");
   const std::uint32_t kind = in.value<std::uint32_t>();
-  // Version 1 knew kind 1 only; version 2 added kind 2.
-  const std::uint32_t lastKind = version == 1 ? 1 : 2;
+  // Version 1 knew kind 1 only; version 2 added kinds 2 and 3.
+  const std::uint32_t lastKind = version == 1 ? 1 : 3;
   if (kind < 1 || kind > lastKind)
     in.fail("unsupported spline kind " + str(kind) + " (format version " + str(version) +
             (version == 1 ? " knows kind 1, triangular B-spline)"
-                          : " knows kind 1, triangular B-spline, and kind 2, T-spline)"));
+                          : " knows kinds 1, triangular B-spline, 2, T-spline, and 3, "
+                            "subdivision surface)"));
   model.kind = SplineKind(kind);
 
   in.section("surface vertices");
@@ -515,10 +560,26 @@ SplineModel readSplineModel(const std::string& path) {
   for (auto& face : model.surfaceFaces)
     for (int& v : face) v = in.value<std::int32_t>();
 
+  if (version >= 3) {
+    in.section("filled surface faces");
+    const int filled = in.count(1, "filled surface face flags");
+    if (filled != 0 && filled != int(model.surfaceFaces.size()))
+      in.fail(str(filled) + " filled-face flags for " + str(model.surfaceFaces.size()) +
+              " surface faces");
+    model.surfaceFaceFilled.resize(std::size_t(filled));
+    for (char& flag : model.surfaceFaceFilled) {
+      const std::uint8_t value = in.value<std::uint8_t>();
+      if (value > 1) in.fail("a filled-face flag is " + str(value) + ", not 0 or 1");
+      flag = char(value);
+    }
+  }
+
   if (model.kind == SplineKind::TriangularBSpline)
     readTriangularBSpline(in, model);
-  else
+  else if (model.kind == SplineKind::TSpline)
     readTSpline(in, model);
+  else
+    readTMeshPart(in, model);
 
   in.section("control points");
   const std::uint64_t rows = in.value<std::uint32_t>();
@@ -536,7 +597,7 @@ SplineModel readSplineModel(const std::string& path) {
     in.fail("the file goes on for " + str(in.remaining()) + " bytes after the last section");
   try {
     spline::TMesh mesh = checkModel(model);
-    if (model.kind == SplineKind::TSpline) model.tmesh = std::move(mesh);
+    if (model.kind != SplineKind::TriangularBSpline) model.tmesh = std::move(mesh);
   } catch (const InputError& error) {
     in.fail(error.what());
   }

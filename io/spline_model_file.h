@@ -10,11 +10,14 @@
 //
 //   header (16 bytes)
 //     u8[8]  magic: "MSPLINE" then 0x1A (a control byte: a text file never starts like this)
-//     u32    format version: 2 (version 1 is read too, see below)
-//     u32    kind: 1 = triangular B-spline, 2 = T-spline (spline::SplineKind)
+//     u32    format version: 3 (versions 1 and 2 are read too, see below)
+//     u32    kind: 1 = triangular B-spline, 2 = T-spline, 3 = subdivision surface
+//            (spline::SplineKind)
 //   common part (every kind)
 //     surface vertices         u32 V; V times f64 x, y, z
 //     surface faces            u32 F; F times i32 a, b, c (surface vertices, counter-clockwise)
+//     filled surface faces     (version 3) u32 count (0, or F); count times u8: 1 when the
+//                              surface face fills a hole of the scan (structure/cap_holes.h)
 //   kind 1 part: triangular B-spline
 //     surface vertex locations V times i32 domain face, f64 b0, b1, b2 (barycentric)
 //     domain vertices          u32 N; N times u8 cone (0 or 1), i32 source surface vertex
@@ -37,14 +40,24 @@
 //                              row-major; rows = W = the blending functions of
 //                              spline::TSplineSpace(T-mesh), one per row in the order of its
 //                              anchors
+//   kind 3 part: Catmull-Clark subdivision surface (spline/subd_fit_space.h)
+//     T-mesh, surface vertex T-mesh points
+//                              as for kind 2; every face has exactly 4 boundary vertices (no
+//                              T-junctions: the T-mesh is the control net)
+//     control points           u32 rows, u32 columns (3), then rows times columns f64,
+//                              row-major; rows = the T-mesh's vertex count, row v the net point
+//                              of vertex v
 //
 // Nothing may follow the last section. Field meanings are those of SplineModel, SplineDomain and
 // TMesh (side k of a domain face joins corners k and k + 1; knots in the face's home frame). A
-// model holds only its own kind's fields: the writer refuses one with data of the other kind.
+// model holds only its own kind's fields: the writer refuses one with data of another kind.
 //
 // Version 1 knew only kind 1 and counted its first three sections to the common part; since they
 // come right after the surface faces, a version 1 file holds the same bytes as the version 2 file
 // of the same model but for the version number. Readers read both; the writer writes version 2.
+// Kind 3 came to version 2 as the extension rule below allows: a reader that does not know it
+// rejects it by number. Version 3 added the filled surface faces to the common part; a version 1
+// or 2 file reads as a model without filled faces.
 //
 // Extending the format: the header and the common part are the same for every kind, and the
 // kind-specific part comes last. A new kind takes the next kind number and defines its own part
@@ -61,7 +74,8 @@ namespace mspline::io {
 
 /// Writes atomically. InputError when the model is one the reader would reject (sizes that
 /// disagree, an index out of range, a non-finite number, an inconsistent domain, a T-mesh that
-/// spline::buildTMesh rejects, a weight that is not positive, data of the other kind), and then
+/// spline::buildTMesh rejects, a weight that is not positive, a subdivision surface's T-mesh with
+/// T-junctions, data of another kind), and then
 /// no file is written; IoError when the file cannot be written.
 void writeSplineModel(const std::string& path, const spline::SplineModel& model);
 
@@ -69,8 +83,9 @@ void writeSplineModel(const std::string& path, const spline::SplineModel& model)
 /// not a valid one (not an .msp file, an unsupported version or kind, truncated in a section,
 /// counts that do not match, an index out of range, a non-finite number, a domain that
 /// spline::validateDomain or a T-mesh that spline::buildTMesh rejects, a T-mesh point outside its
-/// face, a weight that is not positive, bytes after the end); IoError when it cannot be read. A
-/// T-spline's tmesh comes back completed by buildTMesh.
+/// face, a weight that is not positive, a subdivision surface's T-mesh with T-junctions or control
+/// points other than one per T-mesh vertex, bytes after the end); IoError when it cannot be read.
+/// The tmesh of a T-spline or a subdivision surface comes back completed by buildTMesh.
 spline::SplineModel readSplineModel(const std::string& path);
 
 }  // namespace mspline::io

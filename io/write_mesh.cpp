@@ -36,17 +36,30 @@ void checkCornerUVs(const std::string& path, const structure::PolygonSoup& soup)
                                 soup.sourceName + " do not match its faces corner for corner");
 }
 
+void checkAttributes(const std::string& path, const structure::PolygonSoup& soup,
+                     const VertexAttributes& attributes) {
+  const auto check = [&](std::size_t size, const char* what) {
+    if (size != 0 && size != soup.positions.size())
+      throw structure::InputError("cannot write '" + path + "': " + std::to_string(size) + " " +
+                                  what + " for the " + std::to_string(soup.positions.size()) +
+                                  " vertices of " + soup.sourceName);
+  };
+  check(attributes.normals.size(), "normals");
+  check(attributes.uvs.size(), "texture coordinates");
+  check(attributes.colors.size(), "colors");
+}
+
 void writeFormat(std::ostream& out, MeshFormat format, const structure::PolygonSoup& soup,
-                 bool withUVs, bool binary) {
+                 const VertexAttributes& attributes, bool withUVs, bool binary) {
   switch (format) {
     case MeshFormat::Obj:
-      detail::writeObj(out, soup, withUVs);
+      detail::writeObj(out, soup, withUVs, attributes);
       break;
     case MeshFormat::Off:
       detail::writeOff(out, soup);
       break;
     case MeshFormat::Ply:
-      detail::writePly(out, soup, binary);
+      detail::writePly(out, soup, binary, attributes);
       break;
     case MeshFormat::Stl:
       detail::writeStl(out, soup);
@@ -58,17 +71,38 @@ void writeFormat(std::ostream& out, MeshFormat format, const structure::PolygonS
 
 void writeMesh(const std::string& path, const structure::PolygonSoup& soup,
                const MeshWriteOptions& options) {
+  writeMesh(path, soup, VertexAttributes{}, options);
+}
+
+void writeMesh(const std::string& path, const structure::PolygonSoup& soup,
+               const VertexAttributes& attributes, const MeshWriteOptions& options) {
   MeshFormat format = meshFormatFromPath(path);
   checkIndices(path, soup);
-  bool withUVs = format == MeshFormat::Obj && options.writeUVs && !soup.cornerUVs.empty();
+  checkAttributes(path, soup, attributes);
+  bool withUVs = format == MeshFormat::Obj && options.writeUVs && !soup.cornerUVs.empty() &&
+                 attributes.uvs.empty();
   if (withUVs) checkCornerUVs(path, soup);
   writeFileAtomically(path, [&](std::ostream& out) {
     try {
-      writeFormat(out, format, soup, withUVs, options.binary);
+      writeFormat(out, format, soup, attributes, withUVs, options.binary);
     } catch (const structure::InputError& error) {
       throw structure::InputError("cannot write '" + path + "': " + error.what());
     }
   });
+}
+
+void writeObjLines(const std::string& path, const std::vector<std::array<double, 3>>& points,
+                   const std::vector<std::array<std::int64_t, 2>>& segments) {
+  if (meshFormatFromPath(path) != MeshFormat::Obj)
+    throw structure::InputError("cannot write '" + path + "': lines are written as .obj only");
+  for (std::size_t s = 0; s < segments.size(); ++s)
+    for (std::int64_t index : segments[s])
+      if (index < 0 || index >= std::int64_t(points.size()))
+        throw structure::InputError("cannot write '" + path + "': segment " + std::to_string(s) +
+                                    " refers to point " + std::to_string(index) + " of " +
+                                    std::to_string(points.size()));
+  writeFileAtomically(path,
+                      [&](std::ostream& out) { detail::writeObjLines(out, points, segments); });
 }
 
 void writeMesh(const std::string& path, const structure::TriMesh& mesh,

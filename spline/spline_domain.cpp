@@ -233,6 +233,23 @@ std::array<Eigen::Vector2d, 3> canonicalCorners(const SplineDomain& domain, int 
   return {Eigen::Vector2d(0.0, 0.0), Eigen::Vector2d(l[0], 0.0), Eigen::Vector2d(x, y)};
 }
 
+Eigen::Vector3d frameBarycentric(const SplineDomain& domain, int face, const Eigen::Vector2d& x) {
+  const auto corners = canonicalCorners(domain, face);
+  const auto cross = [](const Eigen::Vector2d& u, const Eigen::Vector2d& v) {
+    return u.x() * v.y() - u.y() * v.x();
+  };
+  // Corner 0 is the origin: lambda_j(x) = (cross(u, v) + cross(x, u - v)) / det, u and v the
+  // other two corners.
+  const double det = cross(corners[1], corners[2]);
+  Eigen::Vector3d lambda;
+  for (int j = 0; j < 3; ++j) {
+    const Eigen::Vector2d& u = corners[std::size_t((j + 1) % 3)];
+    const Eigen::Vector2d& v = corners[std::size_t((j + 2) % 3)];
+    lambda[j] = (cross(u, v) + cross(x, u - v)) / det;
+  }
+  return lambda;
+}
+
 int HomeChart::find(int face) const {
   for (std::size_t k = 0; k < faces.size(); ++k)
     if (faces[k] == face) return int(k);

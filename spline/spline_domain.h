@@ -79,6 +79,10 @@ DomainPolish polishDomainMetric(SplineDomain& domain);
 /// x axis, corner 2 above it.
 std::array<Eigen::Vector2d, 3> canonicalCorners(const SplineDomain& domain, int face);
 
+/// The barycentric coordinates of the position x of a face's frame (canonicalCorners) with respect
+/// to its corners; negative outside the face.
+Eigen::Vector3d frameBarycentric(const SplineDomain& domain, int face, const Eigen::Vector2d& x);
+
 /// The home chart of one face: the faces developed into its frame (the home face first, with the
 /// identity) and for each the motion from its own frame into the home frame. A face may be there
 /// more than once, at different places: a development that reaches it along two paths that go

@@ -18,6 +18,9 @@ enum class SplineKind {
   TriangularBSpline = 1,
   /// Manifold cubic T-spline on a T-mesh (tspline.h).
   TSpline = 2,
+  /// Catmull-Clark limit surface (subd_fit_space.h) of the net of a T-mesh without T-junctions:
+  /// the baseline T-spline fits are compared with.
+  Subdivision = 3,
 };
 
 /// The knots of one domain face in its home frame: knots[corner][b] = t_{corner,b}, b = 0 .. n,
@@ -29,6 +32,9 @@ struct SplineModel {
   /// The surface mesh (positions and counter-clockwise triangles) the spline was built on.
   Eigen::MatrixX3d surfaceVertices;
   std::vector<std::array<int, 3>> surfaceFaces;
+  /// Per surface face, 1 when it fills a hole of the scan (structure/cap_holes.h): the spline
+  /// there is fairing, not data, and export trims it away. Empty: no filled faces.
+  std::vector<char> surfaceFaceFilled;
   /// Triangular B-splines only (empty for T-splines): where each surface vertex lies in the
   /// domain, the domain triangulation and, per domain vertex, the surface vertex it is.
   std::vector<DomainPoint> surfaceVertexLocations;
@@ -43,11 +49,13 @@ struct SplineModel {
   /// (n-1,1,0), (n-1,0,1), (n-2,2,0), ... (beta_0 descending, then beta_1 descending).
   Eigen::MatrixXd controlPoints;
 
-  /// T-splines only: the T-mesh (degree 3), where each surface vertex lies on it, and one weight
-  /// per blending function. controlPoints then has one row per blending function, in the order of
-  /// TSplineSpace(tmesh).anchors().
+  /// T-splines and subdivision surfaces: the T-mesh (degree 3; without T-junctions for a
+  /// subdivision surface) and where each surface vertex lies on it. controlPoints then has one
+  /// row per T-spline blending function, in the order of TSplineSpace(tmesh).anchors(), or for a
+  /// subdivision surface one row per T-mesh vertex (the net's points).
   TMesh tmesh;
   std::vector<TMeshPoint> surfaceVertexTMeshPoints;
+  /// T-splines only: one weight per blending function (empty for subdivision surfaces).
   Eigen::VectorXd weights;
 };
 

@@ -1,6 +1,7 @@
 #include "spline/tessellate.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <string>
 
@@ -30,41 +31,84 @@ Tessellation tessellate(const TriBSplineSpace& space, const Eigen::MatrixXd& con
   out.coneOffset = kConeOffset;
   out.minDenominator = std::numeric_limits<double>::infinity();
   BasisValues basis;
-  const auto sample = [&](const DomainPoint& point) {
-    double denominator = 0.0;
-    space.basisAt(point, basis, 0, &denominator);
-    out.minDenominator = std::min(out.minDenominator, denominator);
+  struct Sample {
     Eigen::Vector3d position = Eigen::Vector3d::Zero();
-    for (std::size_t k = 0; k < basis.index.size(); ++k)
-      position += basis.value[k] * control.row(basis.index[k]).transpose();
-    return position;
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // zero where du x dv vanishes
   };
-  const auto add = [&](const Eigen::Vector3d& p) {
-    out.mesh.positions.push_back({p.x(), p.y(), p.z()});
+  const auto sample = [&](const DomainPoint& at) {
+    // The normalized basis is non-negative and sums to 1; where its denominator is so small that
+    // rounding breaks that (sum |N_k| / sum N_k well above 1), the point is moved a little
+    // towards the face's centre, where the spline is the same up to that little move.
+    double denominator = 0.0;
+    DomainPoint point = at;
+    for (const double towardsCentre : {0.0, 1e-4, 1e-3, 1e-2, 0.05}) {
+      point.barycentric =
+          (1.0 - towardsCentre) * at.barycentric + Eigen::Vector3d::Constant(towardsCentre / 3.0);
+      space.basisAt(point, basis, 1, &denominator);
+      double absolute = 0.0;
+      for (const double value : basis.value) absolute += std::abs(value);
+      if (absolute <= 1.0 + 1e-6) break;
+    }
+    out.minDenominator = std::min(out.minDenominator, denominator);
+    Sample s;
+    Eigen::Vector3d du = Eigen::Vector3d::Zero(), dv = Eigen::Vector3d::Zero();
+    for (std::size_t k = 0; k < basis.index.size(); ++k) {
+      const Eigen::Vector3d c = control.row(basis.index[k]).transpose();
+      s.position += basis.value[k] * c;
+      du += basis.gradient[k].x() * c;
+      dv += basis.gradient[k].y() * c;
+    }
+    const Eigen::Vector3d n = du.cross(dv);
+    if (n.norm() > 0.0) s.normal = n.normalized();
+    return s;
+  };
+  const auto add = [&](const Sample& s, const DomainPoint& point) {
+    out.mesh.positions.push_back({s.position.x(), s.position.y(), s.position.z()});
+    out.normals.push_back({s.normal.x(), s.normal.y(), s.normal.z()});
+    const Eigen::Vector2d uv = space.framePosition(point);
+    out.uvs.push_back({uv.x(), uv.y()});
     return std::int64_t(out.mesh.positions.size() - 1);
   };
 
   // Domain vertices: one sample each (at a cone, the mean just inside its faces).
   std::vector<std::int64_t> vertexSample(std::size_t(domain.vertexCount()), -1);
-  std::vector<Eigen::Vector3d> coneSum(std::size_t(domain.vertexCount()), Eigen::Vector3d::Zero());
+  std::vector<Sample> coneSum(std::size_t(domain.vertexCount()));
   std::vector<int> coneFaces(std::size_t(domain.vertexCount()), 0);
+  std::vector<DomainPoint> coneCorner(std::size_t(domain.vertexCount()));
   for (int f = 0; f < domain.faceCount(); ++f)
     for (int c = 0; c < 3; ++c) {
       const int v = domain.faces[std::size_t(f)][std::size_t(c)];
       DomainPoint point{f, Eigen::Vector3d::Zero()};
       if (domain.cone[std::size_t(v)]) {
-        point.barycentric.setConstant(kConeOffset / 2.0);
-        point.barycentric[c] = 1.0 - kConeOffset;
-        coneSum[std::size_t(v)] += sample(point);
-        ++coneFaces[std::size_t(v)];
+        const auto offCone = [&](double offset) {
+          DomainPoint inside{f, Eigen::Vector3d::Constant(offset / 2.0)};
+          inside.barycentric[c] = 1.0 - offset;
+          return sample(inside);
+        };
+        // The vanishing denominator amplifies rounding: a sample that does not follow the
+        // surface's approach to the cone (closer to the sample 10 times farther out than that
+        // one is to the sample 100 times farther) is replaced by the one 10 times farther.
+        Sample s = offCone(kConeOffset);
+        const Sample farther = offCone(10.0 * kConeOffset);
+        const double step = (farther.position - offCone(100.0 * kConeOffset).position).norm();
+        if (!((s.position - farther.position).norm() <= step)) s = farther;
+        coneSum[std::size_t(v)].position += s.position;
+        coneSum[std::size_t(v)].normal += s.normal;
+        if (coneFaces[std::size_t(v)]++ == 0) {
+          coneCorner[std::size_t(v)] = {f, Eigen::Vector3d::Zero()};
+          coneCorner[std::size_t(v)].barycentric[c] = 1.0;
+        }
       } else if (vertexSample[std::size_t(v)] < 0) {
         point.barycentric[c] = 1.0;
-        vertexSample[std::size_t(v)] = add(sample(point));
+        vertexSample[std::size_t(v)] = add(sample(point), point);
       }
     }
   for (int v = 0; v < domain.vertexCount(); ++v)
     if (coneFaces[std::size_t(v)] > 0) {
-      vertexSample[std::size_t(v)] = add(coneSum[std::size_t(v)] / coneFaces[std::size_t(v)]);
+      Sample mean = coneSum[std::size_t(v)];
+      mean.position /= coneFaces[std::size_t(v)];
+      if (mean.normal.norm() > 0.0) mean.normal.normalize();
+      vertexSample[std::size_t(v)] = add(mean, coneCorner[std::size_t(v)]);
       ++out.coneVertices;
     }
 
@@ -84,7 +128,7 @@ Tessellation tessellate(const TriBSplineSpace& space, const Eigen::MatrixXd& con
       DomainPoint point{f, Eigen::Vector3d::Zero()};
       point.barycentric[k] = double(r - i) / r;
       point.barycentric[(k + 1) % 3] = double(i) / r;
-      samples.push_back(add(sample(point)));
+      samples.push_back(add(sample(point), point));
     }
     return samples;
   };
@@ -109,7 +153,7 @@ Tessellation tessellate(const TriBSplineSpace& space, const Eigen::MatrixXd& con
     for (int b = 1; b < r; ++b)
       for (int a = 1; a + b < r; ++a) {
         const DomainPoint point{f, Eigen::Vector3d(double(r - a - b), double(a), double(b)) / r};
-        grid[at(a, b)] = add(sample(point));
+        grid[at(a, b)] = add(sample(point), point);
       }
     for (int b = 0; b < r; ++b)
       for (int a = 0; a + b < r; ++a) {
@@ -119,7 +163,43 @@ Tessellation tessellate(const TriBSplineSpace& space, const Eigen::MatrixXd& con
               {grid[at(a + 1, b)], grid[at(a + 1, b + 1)], grid[at(a, b + 1)]});
       }
   }
+  fillMissingNormals(out.mesh, out.normals);
   return out;
+}
+
+std::vector<std::array<double, 3>> vertexNormalsOfMesh(const structure::PolygonSoup& soup) {
+  std::vector<Eigen::Vector3d> sum(soup.positions.size(), Eigen::Vector3d::Zero());
+  const auto at = [&](std::int64_t v) {
+    const auto& p = soup.positions[std::size_t(v)];
+    return Eigen::Vector3d(p[0], p[1], p[2]);
+  };
+  for (const auto& face : soup.faces) {
+    // Fan around the first corner: twice the area times the unit normal, summed.
+    Eigen::Vector3d n = Eigen::Vector3d::Zero();
+    for (std::size_t k = 1; k + 1 < face.size(); ++k)
+      n += (at(face[k]) - at(face[0])).cross(at(face[k + 1]) - at(face[0]));
+    for (std::int64_t v : face) sum[std::size_t(v)] += n;
+  }
+  std::vector<std::array<double, 3>> out(soup.positions.size(), {0.0, 0.0, 0.0});
+  for (std::size_t v = 0; v < sum.size(); ++v)
+    if (sum[v].norm() > 0.0) {
+      const Eigen::Vector3d n = sum[v].normalized();
+      out[v] = {n.x(), n.y(), n.z()};
+    }
+  return out;
+}
+
+void fillMissingNormals(const structure::PolygonSoup& soup,
+                        std::vector<std::array<double, 3>>& normals) {
+  MSPLINE_ASSERT(normals.size() == soup.positions.size(), "one normal per vertex");
+  std::vector<std::array<double, 3>> fallback;
+  for (std::size_t v = 0; v < normals.size(); ++v) {
+    const auto& n = normals[v];
+    const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (std::isfinite(length) && std::abs(length - 1.0) <= 1e-6) continue;
+    if (fallback.empty()) fallback = vertexNormalsOfMesh(soup);
+    normals[v] = fallback[v];
+  }
 }
 
 }  // namespace mspline::spline

@@ -25,14 +25,6 @@ double since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-void requireNoTJunctions(const TMesh& mesh) {
-  for (int f = 0; f < mesh.numFaces(); ++f)
-    if (mesh.faces[f].vertices.size() != 4)
-      throw InputError("OpenSubdiv comparison: the T-mesh has T-junctions (face " +
-                       std::to_string(f) + " has " + std::to_string(mesh.faces[f].vertices.size()) +
-                       " boundary vertices, a Catmull-Clark net needs 4)");
-}
-
 // OpenSubdiv's view of a quad face of a net without T-junctions (valence = faces around a vertex,
 // since every vertex is a corner of each of its faces): a regular patch when its four vertices
 // are interior of valence 4; no limit surface under BoundaryRule::None when one is on the boundary.
@@ -105,10 +97,24 @@ double boundingBoxDiagonal(const Eigen::MatrixXd& points) {
 
 }  // namespace
 
+std::vector<std::vector<int>> catmullClarkNetFaces(const TMesh& mesh, const std::string& context) {
+  std::vector<std::vector<int>> faces;
+  faces.reserve(mesh.faces.size());
+  for (int f = 0; f < mesh.numFaces(); ++f) {
+    if (mesh.faces[f].vertices.size() != 4)
+      throw InputError(context + ": the T-mesh has T-junctions (face " + std::to_string(f) +
+                       " has " + std::to_string(mesh.faces[f].vertices.size()) +
+                       " boundary vertices, a Catmull-Clark net needs 4)");
+    faces.push_back(mesh.faces[f].vertices);
+  }
+  return faces;
+}
+
 TSplineControlNet tsplineControlNet(const TSplineSpace& space, const Eigen::MatrixXd& control,
                                     const Eigen::MatrixXd& unanchoredPoints) {
   const TMesh& mesh = space.mesh();
-  requireNoTJunctions(mesh);
+  TSplineControlNet net;
+  net.faces = catmullClarkNetFaces(mesh, "OpenSubdiv comparison");
   const int n = mesh.numVertices;
   if (control.rows() != space.numBasis() || control.cols() != 3)
     throw InputError("OpenSubdiv comparison: control points must be " +
@@ -117,11 +123,9 @@ TSplineControlNet tsplineControlNet(const TSplineSpace& space, const Eigen::Matr
       (unanchoredPoints.rows() != n || unanchoredPoints.cols() != 3))
     throw InputError("OpenSubdiv comparison: points of unanchored vertices must be " +
                      std::to_string(n) + " x 3");
-  TSplineControlNet net;
   net.points.setZero(n, 3);
   std::vector<std::vector<int>> neighbours(static_cast<std::size_t>(n));
   for (const TMeshFace& face : mesh.faces) {
-    net.faces.push_back(face.vertices);
     for (std::size_t k = 0; k < 4; ++k) {
       // An interior edge is met from both faces: duplicates are removed below.
       neighbours[face.vertices[k]].push_back(face.vertices[(k + 1) % 4]);

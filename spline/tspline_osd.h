@@ -11,6 +11,7 @@
 // intervals in a face are the face's width and height. A point (x, y) of face f is (u, v) =
 // (x / width, y / height), and d/du = width d/dx. Only regions of equal knot intervals can agree
 // (with unit intervals the derivatives coincide too).
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -92,6 +93,12 @@ struct TSplineControlNet {
   Eigen::MatrixXd points;
   std::vector<std::vector<int>> faces;
 };
+
+/// The faces of the Catmull-Clark net of a T-mesh without T-junctions: per T-mesh face its four
+/// vertices counter-clockwise from the frame's corner (0, 0), so that OpenSubdiv's u runs along x
+/// and v along y, and patch face f is T-mesh face f. Throws InputError, starting with `context`,
+/// when the T-mesh has T-junctions (a face with other than 4 boundary vertices).
+std::vector<std::vector<int>> catmullClarkNetFaces(const TMesh& mesh, const std::string& context);
 
 /// The net of `control` (numBasis x 3, a row per blending function): an anchored vertex takes its
 /// function's control point. A vertex without a function (an extraordinary vertex, or one whose

@@ -5,6 +5,7 @@
 #include <limits>
 #include <string>
 
+#include "spline/tessellate.h"
 #include "spline/tspline_bezier.h"
 #include "structure/errors.h"
 
@@ -36,36 +37,24 @@ double alongSide(int s, const Eigen::Vector2d& p) {
   }
 }
 
+// ds x dt normalized; zero where it vanishes.
+Eigen::Vector3d unitNormal(const Eigen::Vector3d& ds, const Eigen::Vector3d& dt) {
+  const Eigen::Vector3d n = ds.cross(dt);
+  return n.norm() > 0.0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::Zero();
+}
+
 }  // namespace
 
-TSplineTessellation tessellateTSpline(const TSplineSpace& space, const Eigen::MatrixXd& control,
-                                      const Eigen::VectorXd& weights, int resolution) {
+TMeshTessellation tessellateTMeshSurface(const TMesh& mesh, const TMeshSurface& surface,
+                                         int resolution, const std::string& what) {
   if (resolution < 1)
-    throw InputError("T-spline tessellation: resolution " + std::to_string(resolution) +
-                     " is below 1");
-  const TSplineBezier bezier(space, control, weights);
-  const TMesh& mesh = space.mesh();
+    throw InputError(what + ": resolution " + std::to_string(resolution) + " is below 1");
   const int r = resolution;
-  TSplineTessellation out;
-  out.mesh.sourceName = "T-spline tessellation";
+  TMeshTessellation out;
+  out.mesh.sourceName = what;
   out.holeOffset = kHoleOffset;
-  out.minDenominator = std::numeric_limits<double>::infinity();
-
-  // The surface at p of face f, false in a hole. Where the denominator is small the Bezier
-  // patches' rounding (about 1e-17 in their coefficients) is no longer small against it, and
-  // the direct sum over the blending functions decides: exactly 0 in a hole.
-  const double smallDenominator = kSmallDenominator * (weights.size() ? weights.maxCoeff() : 1.0);
   const auto surfaceAt = [&](int f, const Eigen::Vector2d& p, Eigen::Vector3d& x) {
-    double d = 0.0;
-    bezier.evaluate(f, p, x, nullptr, nullptr, &d);
-    if (d < smallDenominator) {
-      const TSplinePoint direct = space.evaluate(control, weights, f, p, 0);
-      d = direct.denominator;
-      x = direct.position;
-    }
-    if (!(d > 0.0) || !x.allFinite()) return false;
-    out.minDenominator = std::min(out.minDenominator, d);
-    return true;
+    return surface(f, p, x, nullptr) && x.allFinite();
   };
   // A sample at the surface point given by `placements` (the same point in the frames of every
   // face holding it); all of them are used only in a hole.
@@ -79,7 +68,9 @@ TSplineTessellation tessellateTSpline(const TSplineSpace& space, const Eigen::Ma
       for (const TMeshPoint& q : placements) {
         const TMeshFace& face = mesh.faces[std::size_t(q.face)];
         const Eigen::Vector2d centre(face.width / 2.0, face.height / 2.0);
-        for (double t : {kHoleOffset, 10.0 * kHoleOffset, 100.0 * kHoleOffset, 1.0}) {
+        // Steps fine enough that the samples along a side in a hole stay apart (a coarse step
+        // would put them all at the face centre: degenerate triangles).
+        for (double t : {kHoleOffset, 1e-2, 0.03, 0.06, 0.1, 0.15, 0.2, 0.3, 0.4, 0.6, 1.0}) {
           Eigen::Vector3d y;
           if (surfaceAt(q.face, q.position + t * (centre - q.position), y)) {
             sum += y;
@@ -89,7 +80,7 @@ TSplineTessellation tessellateTSpline(const TSplineSpace& space, const Eigen::Ma
         }
       }
       if (count == 0)
-        throw InputError("T-spline tessellation: T-mesh face " + std::to_string(point.face) +
+        throw InputError(what + ": T-mesh face " + std::to_string(point.face) +
                          " lies in a hole of the surface up to its centre");
       x = sum / count;
       out.holeVertices.push_back(int(index));
@@ -233,7 +224,74 @@ TSplineTessellation tessellateTSpline(const TSplineSpace& space, const Eigen::Ma
       }
     }
   }
+  // Normals and chart coordinates at the samples' T-mesh points; hole samples stay zero here
+  // and get the triangles' normal.
+  std::vector<char> inHole(out.vertexPoints.size(), 0);
+  for (int v : out.holeVertices) inHole[std::size_t(v)] = 1;
+  for (std::size_t v = 0; v < out.vertexPoints.size(); ++v) {
+    const TMeshPoint& point = out.vertexPoints[v];
+    out.uvs.push_back({point.position.x(), point.position.y()});
+    Eigen::Vector3d x, normal = Eigen::Vector3d::Zero();
+    if (!inHole[v] && !surface(point.face, point.position, x, &normal)) normal.setZero();
+    out.normals.push_back({normal.x(), normal.y(), normal.z()});
+  }
+  fillMissingNormals(out.mesh, out.normals);
   return out;
+}
+
+TSplineTessellation tessellateTSpline(const TSplineSpace& space, const Eigen::MatrixXd& control,
+                                      const Eigen::VectorXd& weights, int resolution) {
+  if (resolution < 1)
+    throw InputError("T-spline tessellation: resolution " + std::to_string(resolution) +
+                     " is below 1");
+  const TSplineBezier bezier(space, control, weights);
+  double minDenominator = std::numeric_limits<double>::infinity();
+  // Where the denominator is small the Bezier patches' rounding (about 1e-17 in their
+  // coefficients) is no longer small against it, and the direct sum over the blending functions
+  // decides: exactly 0 in a hole.
+  const double smallDenominator = kSmallDenominator * (weights.size() ? weights.maxCoeff() : 1.0);
+  const auto surface = [&](int f, const Eigen::Vector2d& p, Eigen::Vector3d& x,
+                           Eigen::Vector3d* normal) {
+    Eigen::Vector3d ds, dt;
+    double d = 0.0;
+    bezier.evaluate(f, p, x, normal ? &ds : nullptr, normal ? &dt : nullptr, &d);
+    if (d < smallDenominator) {
+      const TSplinePoint direct = space.evaluate(control, weights, f, p, normal ? 1 : 0);
+      d = direct.denominator;
+      x = direct.position;
+      if (normal) {
+        ds = direct.ds;
+        dt = direct.dt;
+      }
+    }
+    if (!(d > 0.0) || !x.allFinite()) return false;
+    if (normal) *normal = unitNormal(ds, dt);
+    minDenominator = std::min(minDenominator, d);
+    return true;
+  };
+  TSplineTessellation out;
+  static_cast<TMeshTessellation&>(out) =
+      tessellateTMeshSurface(space.mesh(), surface, resolution, "T-spline tessellation");
+  out.minDenominator = minDenominator;
+  return out;
+}
+
+TMeshTessellation tessellateSubd(const SubdSpace& space, const Eigen::MatrixXd& control,
+                                 int resolution) {
+  if (control.rows() != space.numBasis() || control.cols() != 3)
+    throw InputError("subdivision surface tessellation: control points must be " +
+                     std::to_string(space.numBasis()) + " x 3, got " +
+                     std::to_string(control.rows()) + " x " + std::to_string(control.cols()));
+  const auto surface = [&](int f, const Eigen::Vector2d& p, Eigen::Vector3d& x,
+                           Eigen::Vector3d* normal) {
+    Eigen::Vector3d ds, dt;
+    if (!space.evaluate(control, f, p, x, normal ? &ds : nullptr, normal ? &dt : nullptr))
+      return false;
+    if (normal) *normal = unitNormal(ds, dt);
+    return true;
+  };
+  return tessellateTMeshSurface(space.mesh(), surface, resolution,
+                                "subdivision surface tessellation");
 }
 
 }  // namespace mspline::spline

@@ -456,16 +456,20 @@ CoarseTriangulation Coarsening::result(const std::vector<int>& isCone) const {
 }
 
 // Every cone, then farthest-point samples (Dijkstra on the flat edge lengths, seeded from the
-// cones or from vertex 0) until `target` vertices are kept.
+// cones or from vertex 0; the farthest in units of the local spacing 1 / sqrt(density)) until
+// `target` vertices are kept.
 std::vector<char> sampleVertices(const TriMesh& surface, const Eigen::VectorXd& lengths,
                                  const std::vector<int>& isCone, const std::vector<int>& extra,
-                                 int target) {
+                                 int target, const Eigen::VectorXd& density) {
   const int n = int(surface.n_vertices());
   std::vector<char> kept(std::size_t(n), 0);
   std::vector<double> distance(std::size_t(n), std::numeric_limits<double>::infinity());
+  // 1 / spacing; exactly 1 without a density, so that uniform sampling is unchanged.
+  const Eigen::VectorXd scale =
+      density.size() > 0 ? Eigen::VectorXd(density.cwiseSqrt()) : Eigen::VectorXd::Ones(n);
   using Entry = std::pair<double, int>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<>> near;
-  // Lazy max-heap of distances: an entry is current while it equals distance[v].
+  // Lazy max-heap of scaled distances: an entry is current while it equals distance[v] scale[v].
   std::priority_queue<Entry> far;
   int count = 0;
   const auto keep = [&](int v) {
@@ -488,11 +492,13 @@ std::vector<char> sampleVertices(const TriMesh& surface, const Eigen::VectorXd& 
         if (dw >= distance[w]) continue;
         distance[w] = dw;
         near.push({dw, w});
-        far.push({dw, w});
+        far.push({dw * scale[w], w});
       }
     }
     if (count >= std::min(target, n)) return kept;
-    while (kept[far.top().second] || far.top().first != distance[far.top().second]) far.pop();
+    while (kept[far.top().second] ||
+           far.top().first != distance[far.top().second] * scale[far.top().second])
+      far.pop();
     keep(far.top().second);
   }
 }
@@ -549,6 +555,11 @@ void checkInput(const TriMesh& surface, const Eigen::VectorXd& flatLengths,
                      std::to_string(surface.n_edges()) + " edges");
   if (!flatLengths.allFinite() || (flatLengths.array() <= 0.0).any())
     throw InputError("coarsening: edge lengths must be finite and positive");
+  if (options.density.size() != 0 && options.density.size() != Eigen::Index(surface.n_vertices()))
+    throw InputError("coarsening: " + std::to_string(options.density.size()) + " densities for " +
+                     std::to_string(surface.n_vertices()) + " vertices");
+  if (!options.density.allFinite() || (options.density.array() <= 0.0).any())
+    throw InputError("coarsening: densities must be finite and positive");
   const TopologyReport topology = analyzeTopology(surface);
   if (!topology.closed)
     throw TopologyError("coarsening: the surface has " + std::to_string(topology.boundaryLoops) +
@@ -574,7 +585,7 @@ CoarseTriangulation coarsenKeeping(const TriMesh& surface, const Eigen::VectorXd
   std::vector<int> isCone(std::size_t(n), 0);
   for (int v = 0; v < n; ++v) isCone[v] = std::abs(fineCurvature[v]) > options.coneTolerance;
   const std::vector<char> kept =
-      sampleVertices(surface, flatLengths, isCone, extra, options.targetVertices);
+      sampleVertices(surface, flatLengths, isCone, extra, options.targetVertices, options.density);
 
   Coarsening coarsening(surface, flatLengths, options.delaunay);
   if (options.delaunay) coarsening.flipToDelaunay();

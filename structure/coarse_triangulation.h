@@ -43,6 +43,11 @@ struct CoarseningOptions {
   /// tracking accuracy (maxTrackingError on knot1.off with 300 vertices: 2e-9 instead of 3e-11,
   /// up to 6e-8 with 10), and with very few kept vertices some others may not be removable.
   bool delaunay = true;
+  /// Per fine vertex: the wanted relative density of coarse vertices (finite, positive), or empty
+  /// for uniform. Farthest-point sampling then measures distances in units of the local spacing
+  /// h(v) = 1 / sqrt(density(v)): it keeps the vertex with the largest distance * sqrt(density),
+  /// so a region of higher density gets proportionally more coarse vertices per unit area.
+  Eigen::VectorXd density;
   /// Seed of the random order in which vertices are removed (a random order keeps the faces of
   /// every intermediate triangulation of similar size).
   unsigned seed = 1;

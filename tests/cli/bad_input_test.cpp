@@ -92,7 +92,7 @@ TEST_CASE("bad_input: every case exits 2 with a clear message and writes nothing
       CHECK(repair.exitCode == 2);
       CHECK_FALSE(fs::exists(output));
 
-      for (const char* command : {" cut ", " flatten "}) {
+      for (const char* command : {" cut ", " flatten ", " fit "}) {
         auto result = runCommand(cliPath() + command + input.string() + " -o " + output.string());
         INFO(command << "stderr: " << result.err);
         CHECK(result.exitCode == 2);

@@ -11,6 +11,7 @@
 
 #include "io/byte_order.h"
 #include "spline/dms_spline.h"
+#include "spline/subd_fit_space.h"
 #include "spline/tspline.h"
 #include "structure/errors.h"
 #include "support/test_data.h"
@@ -103,7 +104,9 @@ struct Layout {
   static constexpr std::size_t vertices = kCells * kCells, faces = 2 * vertices;
   static constexpr std::size_t surfaceVertices = 16;
   static constexpr std::size_t surfaceFaces = surfaceVertices + 4 + 24 * vertices;
-  static constexpr std::size_t locations = surfaceFaces + 4 + 12 * faces;
+  // Version 3: the filled-face count (0) follows the faces.
+  static constexpr std::size_t filled = surfaceFaces + 4 + 12 * faces;
+  static constexpr std::size_t locations = filled + 4;
   static constexpr std::size_t domainVertices = locations + 28 * vertices;
   static constexpr std::size_t domainFaces = domainVertices + 4 + 5 * vertices;
   static constexpr std::size_t degree = domainFaces + 4 + 51 * faces;
@@ -166,7 +169,8 @@ SplineModel tsplineModel() {
 struct TLayout {
   static constexpr std::size_t vertices = kColumns * kRows, faces = 2 * vertices;
   static constexpr std::size_t surfaceFaces = 16 + 4 + 24 * vertices;
-  static constexpr std::size_t tmesh = surfaceFaces + 4 + 12 * faces;
+  static constexpr std::size_t filled = surfaceFaces + 4 + 12 * faces;
+  static constexpr std::size_t tmesh = filled + 4;
   static constexpr std::size_t tmeshFaces = tmesh + 8;  // face f at tmeshFaces + faceBytes * f
   static constexpr std::size_t faceBytes = 4 + 4 * 20;
   static constexpr std::size_t points = tmeshFaces + vertices * faceBytes;
@@ -320,10 +324,10 @@ TEST_CASE("spline_model_file: corrupt files are input errors naming the file and
   expect("empty.msp", "", "the file is empty");
   expect("text.msp", "# not a model\n", "not an .msp spline model");
   expect("magic.msp", patched(good, 7, std::uint8_t('\n')), "not an .msp spline model");
-  expect("version.msp", patched(good, 8, std::uint32_t(3)),
-         "unsupported format version 3 (this mspline reads versions 1 to 2)");
+  expect("version.msp", patched(good, 8, std::uint32_t(4)),
+         "unsupported format version 4 (this mspline reads versions 1 to 3)");
   expect("version0.msp", patched(good, 8, std::uint32_t(0)), "unsupported format version 0");
-  expect("kind.msp", patched(good, 12, std::uint32_t(3)), "unsupported spline kind 3");
+  expect("kind.msp", patched(good, 12, std::uint32_t(4)), "unsupported spline kind 4");
   expect("kind0.msp", patched(good, 12, std::uint32_t(0)), "unsupported spline kind 0");
   // Read as a T-spline, the triangular B-spline's bytes do not make one.
   expect("kind2.msp", patched(good, 12, std::uint32_t(2)), "");
@@ -400,16 +404,20 @@ TEST_CASE("spline_model_file: unreadable and unwritable paths, models the format
   CHECK(std::distance(fs::directory_iterator(dir), fs::directory_iterator()) == 1);
 }
 
-TEST_CASE("spline_model_file: a version 1 file reads as the same model", "[io]") {
+TEST_CASE("spline_model_file: version 1 and 2 files read as the same model", "[io]") {
   // Version 2 moved the triangular B-spline's sections out of the common part without changing
-  // a byte: a version 1 file is the version 2 file with another version number.
+  // a byte, version 3 added the filled-face flags after the surface faces: a version 1 or 2 file
+  // is the version 3 file without them and with another version number.
   const std::string dir = test::scratchDirectory("io_spline_model_file_v1");
   const SplineModel model = awkwardModel();
-  io::writeSplineModel(dir + "/v2.msp", model);
-  const std::string bytes = test::fileText(dir + "/v2.msp");
+  io::writeSplineModel(dir + "/v3.msp", model);
+  const std::string bytes = test::fileText(dir + "/v3.msp");
   REQUIRE(bytes.size() == Layout::size);
-  CHECK(io::detail::decode<std::uint32_t>(bytes.data() + 8, false) == 2);
-  writeBytes(dir + "/v1.msp", patched(bytes, 8, std::uint32_t(1)));
+  CHECK(io::detail::decode<std::uint32_t>(bytes.data() + 8, false) == 3);
+  const std::string older = bytes.substr(0, Layout::filled) + bytes.substr(Layout::filled + 4);
+  writeBytes(dir + "/v2.msp", patched(older, 8, std::uint32_t(2)));
+  CHECK(io::readSplineModel(dir + "/v2.msp").controlPoints == model.controlPoints);
+  writeBytes(dir + "/v1.msp", patched(older, 8, std::uint32_t(1)));
 
   const SplineModel back = io::readSplineModel(dir + "/v1.msp");
   CHECK(back.kind == spline::SplineKind::TriangularBSpline);
@@ -422,7 +430,7 @@ TEST_CASE("spline_model_file: a version 1 file reads as the same model", "[io]")
   CHECK(sameBits(back.controlPoints, model.controlPoints));
   CHECK(back.tmesh.faces.empty());
   CHECK(back.weights.size() == 0);
-  // Every field: the writer puts all of them in the file, which is the version 2 one.
+  // Every field: the writer puts all of them in the file, which is the version 3 one.
   io::writeSplineModel(dir + "/again.msp", back);
   CHECK(test::fileText(dir + "/again.msp") == bytes);
 }
@@ -530,9 +538,9 @@ TEST_CASE("spline_model_file: corrupt T-spline files are input errors naming the
 
   expect("version1.msp", patched(good, 8, std::uint32_t(1)),
          "unsupported spline kind 2 (format version 1 knows kind 1, triangular B-spline)");
-  expect("kind.msp", patched(good, 12, std::uint32_t(3)),
-         "unsupported spline kind 3 (format version 2 knows kind 1, triangular B-spline, and kind "
-         "2, T-spline)");
+  expect("kind.msp", patched(good, 12, std::uint32_t(4)),
+         "unsupported spline kind 4 (format version 3 knows kinds 1, triangular B-spline, 2, "
+         "T-spline, and 3, subdivision surface)");
   expect("trailing.msp", good + std::string(8, '\0'), "8 bytes after the last section");
   // The T-mesh: counts that cannot be, then what spline::buildTMesh refuses.
   expect("vertices.msp", patched(good, TLayout::tmesh, huge),
@@ -644,4 +652,98 @@ TEST_CASE("spline_model_file: T-spline models the format refuses are not written
   triangular.tmesh = model.tmesh;
   refused(triangular, "a triangular B-spline model has 30 T-mesh vertices");
   CHECK(fs::is_empty(dir));
+}
+
+TEST_CASE("spline_model_file: a subdivision surface's save, load and save again is lossless",
+          "[io]") {
+  const std::string dir = test::scratchDirectory("io_spline_model_file_subd");
+  // The T-spline model's T-mesh and surface points, one net point per T-mesh vertex, no weights.
+  SplineModel model = tsplineModel();
+  model.kind = spline::SplineKind::Subdivision;
+  model.weights.resize(0);
+  REQUIRE(model.controlPoints.rows() == model.tmesh.numVertices);
+  io::writeSplineModel(dir + "/a.msp", model);
+  const std::string bytes = test::fileText(dir + "/a.msp");
+  // The T-spline's file without the weights section (u32 count and 30 f64).
+  CHECK(bytes.size() == TLayout::size - 4 - 8 * std::size_t(kColumns * kRows));
+  CHECK(io::detail::decode<std::uint32_t>(bytes.data() + 8, false) == 3);
+  CHECK(io::detail::decode<std::uint32_t>(bytes.data() + 12, false) == 3);
+
+  const SplineModel back = io::readSplineModel(dir + "/a.msp");
+  CHECK(back.kind == spline::SplineKind::Subdivision);
+  CHECK(sameBits(back.surfaceVertices, model.surfaceVertices));
+  CHECK(back.surfaceFaces == model.surfaceFaces);
+  CHECK(back.weights.size() == 0);
+  CHECK(sameBits(back.controlPoints, model.controlPoints));
+  REQUIRE(back.tmesh.numFaces() == model.tmesh.numFaces());
+  for (int f = 0; f < model.tmesh.numFaces(); ++f) {
+    CHECK(back.tmesh.faces[f].positions == model.tmesh.faces[f].positions);
+    CHECK(back.tmesh.faces[f].twinFace == model.tmesh.faces[f].twinFace);
+  }
+  REQUIRE(back.surfaceVertexTMeshPoints.size() == model.surfaceVertexTMeshPoints.size());
+  for (std::size_t v = 0; v < model.surfaceVertexTMeshPoints.size(); ++v) {
+    CHECK(back.surfaceVertexTMeshPoints[v].face == model.surfaceVertexTMeshPoints[v].face);
+    CHECK(sameBits(back.surfaceVertexTMeshPoints[v].position,
+                   model.surfaceVertexTMeshPoints[v].position));
+  }
+  io::writeSplineModel(dir + "/b.msp", back);
+  CHECK(test::fileText(dir + "/b.msp") == bytes);
+  // The loaded surface evaluates to the same bits.
+  const spline::SubdSpace before(model.tmesh), after(back.tmesh);
+  for (const spline::TMeshPoint& p :
+       {spline::TMeshPoint{0, {0.5, 0.5}}, spline::TMeshPoint{17, {0.25, 0.75}}}) {
+    Eigen::Vector3d x, y, xs, ys;
+    REQUIRE(before.evaluate(model.controlPoints, p.face, p.position, x, &xs));
+    REQUIRE(after.evaluate(back.controlPoints, p.face, p.position, y, &ys));
+    CHECK(sameBits(Eigen::VectorXd(x), Eigen::VectorXd(y)));
+    CHECK(sameBits(Eigen::VectorXd(xs), Eigen::VectorXd(ys)));
+  }
+
+  // What the format refuses.
+  const std::string path = dir + "/c.msp";
+  const auto refused = [&](const SplineModel& broken, const std::string& words) {
+    CHECK_THROWS_WITH(io::writeSplineModel(path, broken),
+                      Catch::Contains("cannot write '" + path + "'") && Catch::Contains(words));
+    CHECK_FALSE(fs::exists(path));
+  };
+  SplineModel broken = model;
+  broken.weights = Eigen::VectorXd::Ones(30);
+  refused(broken, "a subdivision surface model has 30 weights");
+  broken = model;
+  broken.controlPoints.conservativeResize(29, 3);
+  refused(broken, "29 control points, but the T-mesh has 30 vertices");
+  broken = model;
+  broken.tmesh = test::stoppedLine();
+  broken.surfaceVertexTMeshPoints.assign(30, {0, Eigen::Vector2d(0.5, 0.5)});
+  broken.controlPoints = Eigen::MatrixXd::Zero(broken.tmesh.numVertices, 3);
+  refused(broken, "boundary vertices, a subdivision surface's net needs quads");
+  // A file whose control points do not match its T-mesh names the file.
+  std::string cut = bytes;
+  const std::size_t rowsAt = bytes.size() - 8 - 8 * 3 * std::size_t(kColumns * kRows);
+  const std::uint32_t rows = 29;
+  std::memcpy(&cut[rowsAt], &rows, 4);
+  cut.resize(cut.size() - 24);
+  writeBytes(path, cut);
+  CHECK_THROWS_WITH(io::readSplineModel(path),
+                    Catch::Contains(path) &&
+                        Catch::Contains("29 control points, but the T-mesh has 30 vertices"));
+}
+
+TEST_CASE("spline_model_file: filled faces round-trip and are checked", "[io]") {
+  const std::string dir = test::scratchDirectory("io_spline_model_file_filled");
+  SplineModel model = tsplineModel();
+  model.surfaceFaceFilled.assign(model.surfaceFaces.size(), 0);
+  model.surfaceFaceFilled[3] = 1;
+  io::writeSplineModel(dir + "/a.msp", model);
+  const std::string bytes = test::fileText(dir + "/a.msp");
+  CHECK(bytes.size() == TLayout::size + model.surfaceFaces.size());
+  const SplineModel back = io::readSplineModel(dir + "/a.msp");
+  CHECK(back.surfaceFaceFilled == model.surfaceFaceFilled);
+  writeBytes(dir + "/flag.msp", patched(bytes, TLayout::filled + 4 + 3, std::uint8_t(7)));
+  CHECK_THROWS_WITH(io::readSplineModel(dir + "/flag.msp"),
+                    Catch::Contains("a filled-face flag is 7"));
+  model.surfaceFaceFilled.pop_back();
+  CHECK_THROWS_WITH(io::writeSplineModel(dir + "/b.msp", model),
+                    Catch::Contains("filled-face flags for"));
+  CHECK_FALSE(fs::exists(dir + "/b.msp"));
 }

@@ -174,3 +174,51 @@ TEST_CASE("write_mesh: refusals leave nothing behind", "[io]") {
                     Catch::Contains(dir + "/missing/m.off"));
   CHECK(fs::is_empty(dir));
 }
+
+TEST_CASE("write_mesh: per-vertex normals, texture coordinates and colors", "[io]") {
+  std::string dir = mspline::test::scratchDirectory("write_mesh_attributes");
+  PolygonSoup soup;
+  soup.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  soup.faces = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  mspline::io::VertexAttributes attributes;
+  attributes.normals = {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}, {0.6, 0, 0.8}};
+  attributes.uvs = {{0, 0}, {1, 0}, {0, 1}, {0.5, 0.5}};
+  attributes.colors = {{255, 0, 0}, {0, 255, 0}, {0, 0, 255}, {1, 2, 3}};
+  writeMesh(dir + "/a.obj", soup, attributes);
+  const std::string obj = mspline::test::fileText(dir + "/a.obj");
+  CHECK(obj.find("vt 0.5 0.5\n") != std::string::npos);
+  CHECK(obj.find("vn 0.6 0 0.8\n") != std::string::npos);
+  CHECK(obj.find("f 2/2/2 3/3/3 4/4/4\n") != std::string::npos);
+  MeshWriteOptions ascii;
+  ascii.binary = false;
+  writeMesh(dir + "/a.ply", soup, attributes, ascii);
+  const std::string ply = mspline::test::fileText(dir + "/a.ply");
+  CHECK(ply.find("property double nz\nproperty uchar red\nproperty uchar green\nproperty uchar "
+                 "blue\nelement face 4\n") != std::string::npos);
+  CHECK(ply.find("\n0 0 1 0.6 0 0.8 1 2 3\n") != std::string::npos);
+  // Binary and ASCII read back the same positions and faces (the reader skips the attributes).
+  writeMesh(dir + "/b.ply", soup, attributes);
+  for (const char* name : {"/a.obj", "/a.ply", "/b.ply"}) {
+    const auto read = readMesh(dir + name);
+    CHECK(read.soup.positions == soup.positions);
+    CHECK(read.soup.faces == soup.faces);
+  }
+  // Normals only: OBJ faces `v//n`.
+  mspline::io::VertexAttributes normalsOnly;
+  normalsOnly.normals = attributes.normals;
+  writeMesh(dir + "/n.obj", soup, normalsOnly);
+  CHECK(mspline::test::fileText(dir + "/n.obj").find("f 1//1 3//3 2//2\n") != std::string::npos);
+  attributes.normals.pop_back();
+  CHECK_THROWS_AS(writeMesh(dir + "/c.ply", soup, attributes), mspline::structure::InputError);
+  CHECK(!fs::exists(dir + "/c.ply"));
+}
+
+TEST_CASE("write_mesh: points and lines as OBJ", "[io]") {
+  std::string dir = mspline::test::scratchDirectory("write_mesh_lines");
+  mspline::io::writeObjLines(dir + "/l.obj", {{0, 0, 0}, {1, 2, 3}}, {{0, 1}});
+  CHECK(mspline::test::fileText(dir + "/l.obj") == "v 0 0 0\nv 1 2 3\nl 1 2\n");
+  CHECK_THROWS_AS(mspline::io::writeObjLines(dir + "/m.obj", {{0, 0, 0}}, {{0, 1}}),
+                  mspline::structure::InputError);
+  CHECK_THROWS_AS(mspline::io::writeObjLines(dir + "/m.ply", {{0, 0, 0}}, {}),
+                  mspline::structure::InputError);
+}

@@ -349,6 +349,48 @@ TEST_CASE("coarse_triangulation: bunny00.off with quantized cones", "[structure]
   }
 }
 
+TEST_CASE("coarse_triangulation: a density puts more vertices where it is higher", "[structure]") {
+  const Flat flat = flatten(test::torus(40, 20), {});
+  const int n = int(flat.surface.n_vertices());
+  // The halves x > 0 and x < 0 are congruent in the flat metric.
+  std::vector<char> dense(static_cast<std::size_t>(n), 0);
+  for (const auto v : flat.surface.vertices())
+    dense[std::size_t(v.idx())] = flat.surface.point(v)[0] > 0.0;
+  CoarseningOptions options;
+  options.targetVertices = 150;
+  const CoarseTriangulation uniform = coarsenAndCheck("torus(40, 20)", flat, options);
+  // A constant density scales every distance alike (by 2, exactly): the same vertices.
+  options.density = Eigen::VectorXd::Constant(n, 4.0);
+  CHECK(structure::coarsenFlatMetric(flat.surface, flat.lengths, options).vertices ==
+        uniform.vertices);
+  // 16 times the density on one half: about 16 times the vertices per area there (fewer, as the
+  // sparse half's samples near the border count for it too).
+  options.density = Eigen::VectorXd::Ones(n);
+  for (int v = 0; v < n; ++v)
+    if (dense[std::size_t(v)]) options.density[v] = 16.0;
+  const CoarseTriangulation adapted = coarsenAndCheck("torus(40, 20), denser half", flat, options);
+  CHECK(int(adapted.vertices.size()) == options.targetVertices);
+  const auto countDense = [&](const CoarseTriangulation& coarse) {
+    int count = 0;
+    for (int v : coarse.vertices) count += dense[std::size_t(v)];
+    return count;
+  };
+  const int denseCount = countDense(adapted);
+  const int sparseCount = int(adapted.vertices.size()) - denseCount;
+  INFO("uniform " << countDense(uniform) << " of " << uniform.vertices.size() << ", adapted "
+                  << denseCount << " to " << sparseCount);
+  CHECK(std::abs(2 * countDense(uniform) - int(uniform.vertices.size())) <= 20);
+  CHECK(denseCount >= 8 * sparseCount);
+  // Bad densities.
+  options.density = Eigen::VectorXd::Ones(n - 1);
+  CHECK_THROWS_AS(structure::coarsenFlatMetric(flat.surface, flat.lengths, options),
+                  structure::InputError);
+  options.density = Eigen::VectorXd::Ones(n);
+  options.density[3] = 0.0;
+  CHECK_THROWS_AS(structure::coarsenFlatMetric(flat.surface, flat.lengths, options),
+                  structure::InputError);
+}
+
 TEST_CASE("coarse_triangulation: keeping every vertex leaves the fine surface", "[structure]") {
   // Every located point then starts from a coarse vertex, cones included.
   for (const bool cones : {false, true}) {

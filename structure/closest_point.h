@@ -1,0 +1,61 @@
+#pragma once
+// Exact closest points on a triangle mesh (a soup is enough: no connectivity is used).
+//
+// A k-d tree (nanoflann) holds the triangles' centroids. A query takes the nearest centroid's
+// triangle: its exact distance d bounds the answer from above. Every triangle within d of the
+// point has its centroid within d + R of it (R: the largest centroid-to-corner distance over all
+// triangles), so one radius search with d + R finds all candidates, each checked exactly by the
+// closest point on a triangle (Ericson, Real-Time Collision Detection, 5.1.5). The result equals
+// brute force to rounding, whatever the triangles' sizes; only the speed depends on them.
+#include <array>
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace mspline::structure {
+
+struct ClosestPoint {
+  /// Euclidean distance from the query point to the mesh.
+  double distance = 0.0;
+  /// The triangle the closest point lies on (the first one found among equally near ones).
+  int face = -1;
+  /// The closest point's barycentric coordinates in that triangle (corners in triangle order).
+  Eigen::Vector3d barycentric = Eigen::Vector3d::Zero();
+  /// The closest point itself.
+  Eigen::Vector3d closest = Eigen::Vector3d::Zero();
+};
+
+/// The closest point to p on triangle (a, b, c), degenerate triangles included.
+ClosestPoint closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                    const Eigen::Vector3d& b, const Eigen::Vector3d& c);
+
+/// Distance queries against a fixed triangle mesh. Immutable after construction; queries from
+/// several threads at once are safe.
+class TriangleMeshDistance {
+ public:
+  /// Throws InputError for no triangles, a corner index out of range or a non-finite position.
+  TriangleMeshDistance(Eigen::MatrixX3d positions, std::vector<std::array<int, 3>> triangles);
+  ~TriangleMeshDistance();
+  TriangleMeshDistance(TriangleMeshDistance&&) noexcept;
+  TriangleMeshDistance& operator=(TriangleMeshDistance&&) noexcept;
+
+  /// The exact closest point of the mesh to p.
+  ClosestPoint query(const Eigen::Vector3d& p) const;
+  /// query() for every point (rows of a matrix, or a list), in parallel (TBB), in their order.
+  std::vector<ClosestPoint> queryAll(const Eigen::MatrixX3d& points) const;
+  std::vector<ClosestPoint> queryAll(const std::vector<Eigen::Vector3d>& points) const;
+
+  const Eigen::MatrixX3d& positions() const { return positions_; }
+  const std::vector<std::array<int, 3>>& triangles() const { return triangles_; }
+
+ private:
+  struct Tree;
+  Eigen::MatrixX3d positions_;
+  std::vector<std::array<int, 3>> triangles_;
+  Eigen::MatrixX3d centroids_;
+  double reach_ = 0.0;  // largest centroid-to-corner distance
+  std::unique_ptr<Tree> tree_;
+};
+
+}  // namespace mspline::structure
