@@ -14,6 +14,7 @@
 #include <opensubdiv/far/topologyRefinerFactory.h>
 
 #include "spline/tmesh_walk.h"
+#include "spline/tspline_fit_space.h"
 #include "spline/tspline_osd.h"
 #include "structure/errors.h"
 
@@ -339,30 +340,11 @@ FitParameter SubdFitSpace::walk(const FitParameter& p, const Eigen::Vector2d& st
   return {end.face, end.position};
 }
 
-double SubdFitSpace::faceSize(int face) const {
-  const TMeshFace& f = space_.mesh().faces.at(std::size_t(face));
-  return std::max(f.width, f.height);
-}
+double SubdFitSpace::faceSize(int face) const { return tmeshFaceSize(space_.mesh(), face); }
 
 void SubdFitSpace::quadrature(std::vector<FitParameter>& nodes,
                               std::vector<double>& weights) const {
-  // Gauss-Legendre, 4 points on [0, 1].
-  const std::array<double, 4> x{0.0694318442029737, 0.3300094782075719, 0.6699905217924281,
-                                0.9305681557970263};
-  const std::array<double, 4> w{0.1739274225687269, 0.3260725774312731, 0.3260725774312731,
-                                0.1739274225687269};
-  nodes.clear();
-  weights.clear();
-  const TMesh& mesh = space_.mesh();
-  for (int f = 0; f < mesh.numFaces(); ++f) {
-    const double width = mesh.faces[std::size_t(f)].width,
-                 height = mesh.faces[std::size_t(f)].height;
-    for (std::size_t i = 0; i < 4; ++i)
-      for (std::size_t j = 0; j < 4; ++j) {
-        nodes.push_back({f, Eigen::Vector2d(x[i] * width, x[j] * height)});
-        weights.push_back(w[i] * w[j] * width * height);
-      }
-  }
+  tmeshQuadrature(space_.mesh(), nodes, weights);
 }
 
 }  // namespace mspline::spline
