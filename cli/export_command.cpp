@@ -198,7 +198,8 @@ KindSurface tSplineSurface(const ExportArguments& a, const spline::SplineModel& 
     Surface s{std::move(t.mesh), std::move(t.normals), std::move(t.uvs)};
     s.report = {{"min_denominator", t.minDenominator},
                 {"hole_samples", t.holeVertices.size()},
-                {"hole_offset", t.holeOffset}};
+                {"hole_offset", t.holeOffset},
+                {"collapsed_edge_samples", t.collapsedEdgeSamples}};
     if (!t.holeVertices.empty())
       s.note = ", " + std::to_string(t.holeVertices.size()) + " samples closing holes";
     return s;

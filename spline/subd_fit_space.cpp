@@ -340,7 +340,9 @@ FitParameter SubdFitSpace::walk(const FitParameter& p, const Eigen::Vector2d& st
   return {end.face, end.position};
 }
 
-double SubdFitSpace::faceSize(int face) const { return tmeshFaceSize(space_.mesh(), face); }
+double SubdFitSpace::faceSize(int face) const {
+  return tmeshFaceSize(space_.mesh(), face);
+}
 
 void SubdFitSpace::quadrature(std::vector<FitParameter>& nodes,
                               std::vector<double>& weights) const {

@@ -19,6 +19,8 @@ namespace {
 // for the denominator (which vanishes in the hole) to keep rounding small (as tessellate.h's
 // cone offset).
 constexpr double kHoleOffset = 1e-3;
+// How far towards the face centre samples of a collapsed edge are taken.
+constexpr double kCollapsedEdgeOffset = 1e-2;
 // Below this denominator (times the largest weight) points are evaluated directly.
 constexpr double kSmallDenominator = 1e-6;
 
@@ -128,7 +130,35 @@ TMeshTessellation tessellateTMeshSurface(const TMesh& mesh, const TMeshSurface& 
         std::vector<TMeshPoint> placements{{f, edgePoint(f, k, i)}};
         if (g >= 0)
           placements.push_back({g, mesh.acrossEdge(f, int(k)).apply(placements[0].position)});
-        samples[k].push_back(add(placements));
+        const std::int64_t index = add(placements);
+        // Along an edge into a T-spline's cone the normalization can collapse the whole edge to
+        // one point: such samples are taken just inside the face, so that no triangle between
+        // them has zero area.
+        const std::int64_t previous =
+            i == 1 ? vertexSample[std::size_t(face.vertices[k])] : samples[k].back();
+        const auto position = [&](std::int64_t v) {
+          const auto& p = out.mesh.positions[std::size_t(v)];
+          return Eigen::Vector3d(p[0], p[1], p[2]);
+        };
+        const Eigen::Vector2d centre(face.width / 2.0, face.height / 2.0);
+        Eigen::Vector3d middle;
+        const std::int64_t next =
+            vertexSample[std::size_t(face.vertices[(k + 1) % face.vertices.size()])];
+        const auto coincides = [&](std::int64_t other) {
+          return (position(index) - position(other)).norm() <=
+                 1e-6 * (middle - position(other)).norm();
+        };
+        if (surfaceAt(f, centre, middle) && (coincides(previous) || coincides(next))) {
+          Eigen::Vector3d x;
+          const Eigen::Vector2d inside =
+              placements[0].position + kCollapsedEdgeOffset * (centre - placements[0].position);
+          if (surfaceAt(f, inside, x)) {
+            out.mesh.positions[std::size_t(index)] = {x.x(), x.y(), x.z()};
+            out.vertexPoints[std::size_t(index)] = {f, inside};
+            ++out.collapsedEdgeSamples;
+          }
+        }
+        samples[k].push_back(index);
       }
     }
   }

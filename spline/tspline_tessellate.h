@@ -55,6 +55,10 @@ struct TMeshTessellation {
   std::vector<int> holeVertices;
   /// See the header comment.
   double holeOffset = 0.0;
+  /// Edge samples taken 1% of the way towards their face's centre because the surface is one
+  /// point along their whole edge (an edge into a T-spline's cone: the normalization collapses
+  /// it), so that no triangle has zero area.
+  int collapsedEdgeSamples = 0;
   /// Per mesh vertex: the unit normal ds x dt / |ds x dt| at vertexPoints (pointing to the side the
   /// triangles face); for hole samples, and where ds x dt vanishes, the normal of the triangles
   /// around the vertex (spline::vertexNormalsOfMesh).
