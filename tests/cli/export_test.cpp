@@ -149,7 +149,7 @@ TEST_CASE("export: PLY with normals, STL, and a T-spline model", "[cli]") {
 TEST_CASE("export: --tolerance picks a finer resolution for a smaller tolerance", "[cli]") {
   const std::string dir = test::scratchDirectory("cli_export_tolerance");
   for (const auto& [model, coarseTolerance, fineTolerance] :
-       {std::tuple{triModel(dir), 1e-1, 3e-2}, std::tuple{tsplineModel(dir), 1e-3, 1e-4}}) {
+       {std::tuple{triModel(dir), 0.3, 0.1}, std::tuple{tsplineModel(dir), 1e-3, 1e-4}}) {
     INFO(model);
     const auto coarse = runJson("export " + model + " -o " + dir + "/a.obj --tolerance " +
                                 std::to_string(coarseTolerance));

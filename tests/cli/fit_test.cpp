@@ -51,8 +51,8 @@ TEST_CASE("fit: a T-spline on the genus-1 knot reaches the tolerance within the 
   const std::string dir = test::scratchDirectory("cli_fit_knot");
   const std::string model = dir + "/knot.msp";
   const auto fit = runJson("fit " + realMeshPath("knot1.off") + " -o " + model +
-                           " --max-control 900 --tolerance 2e-3 -q");
-  checkReport(fit, "tspline", 900);
+                           " --max-control 500 --tolerance 3e-3 --rounds 2 -q");
+  checkReport(fit, "tspline", 500);
   CHECK(fit["reached_tolerance"].get<bool>());
   // Parameter correction moved the samples to their closest points.
   CHECK(fit["rms_error"].get<double>() < fit["rms_error_before_correction"].get<double>());
@@ -70,8 +70,8 @@ TEST_CASE("fit: a T-spline on the genus-1 knot reaches the tolerance within the 
 TEST_CASE("fit: subd and tribspline on the knot", "[cli]") {
   const std::string dir = test::scratchDirectory("cli_fit_kinds");
   const auto subd = runJson("fit " + realMeshPath("knot1.off") + " --kind subd -o " + dir +
-                            "/subd.msp --max-control 900 --tolerance 2e-3 -q");
-  checkReport(subd, "subd", 900);
+                            "/subd.msp --max-control 500 --tolerance 3e-3 --rounds 1 -q");
+  checkReport(subd, "subd", 500);
   CHECK(io::readSplineModel(dir + "/subd.msp").kind == spline::SplineKind::Subdivision);
   // No holes at all: the limit surface of the closed net exports closed and valid.
   runJson("export " + dir + "/subd.msp -o " + dir + "/subd.ply --resolution 2");
@@ -79,8 +79,8 @@ TEST_CASE("fit: subd and tribspline on the knot", "[cli]") {
   CHECK(info["valid"].get<bool>());
   CHECK(info["closed"].get<bool>());
   const auto tri = runJson("fit " + realMeshPath("knot1.off") + " --kind tribspline -o " + dir +
-                           "/tri.msp --max-control 900 --tolerance 2e-3 -q");
-  checkReport(tri, "tribspline", 900);
+                           "/tri.msp --max-control 500 --tolerance 3e-3 --rounds 1 -q");
+  checkReport(tri, "tribspline", 500);
   CHECK(tri["space"]["domain_faces"].get<int>() * 10 == tri["control_points"].get<int>());
 }
 
@@ -88,8 +88,8 @@ TEST_CASE("fit: a scan with holes is filled for the fit and trimmed at export", 
   const std::string dir = test::scratchDirectory("cli_fit_head");
   // Subdivision: no holes at cones, so the trimmed export must be a valid mesh.
   const auto fit = runJson("fit " + realMeshPath("head.off") + " --kind subd -o " + dir +
-                           "/head.msp --max-control 1200 --tolerance 3e-3 -q");
-  checkReport(fit, "subd", 1200);
+                           "/head.msp --max-control 800 --tolerance 5e-3 --rounds 1 -q");
+  checkReport(fit, "subd", 800);
   CHECK(fit["filled_holes"] == 3);
   CHECK(fit["scan_vertices"] == fit["scan_vertices_measured"]);
   const spline::SplineModel model = io::readSplineModel(dir + "/head.msp");
@@ -107,7 +107,7 @@ TEST_CASE("fit: an unreachable tolerance warns and still writes the best model",
   const std::string dir = test::scratchDirectory("cli_fit_unreachable");
   const std::string model = dir + "/knot.msp";
   const auto result = runCommand(cliPath() + " fit " + realMeshPath("knot1.off") + " -o " + model +
-                                 " --max-control 300 --tolerance 1e-6 --max-refinements 1 --json");
+                                 " --max-control 300 --tolerance 1e-6 --max-refinements 1 --rounds 1 --json");
   INFO(result.err);
   CHECK(result.exitCode == 0);
   CHECK(result.err.find("warning: the tolerance was not reached") != std::string::npos);
