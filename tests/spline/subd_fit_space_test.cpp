@@ -21,11 +21,6 @@ using spline::TMesh;
 
 namespace {
 
-Eigen::Vector2d randomIn(const spline::TMeshFace& face, std::mt19937& rng) {
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  return {unit(rng) * face.width, unit(rng) * face.height};
-}
-
 // Sum over the functions of value, ds, dt, dss, dst, dtt.
 std::array<double, 6> sums(const std::vector<FitBasisTerm>& terms) {
   std::array<double, 6> s{};
@@ -70,7 +65,7 @@ TEST_CASE("subd_fit_space: on a periodic grid the functions are the uniform B-sp
   double worst = 0.0;
   for (int f = 0; f < mesh.numFaces(); ++f)
     for (int k = 0; k < 4; ++k) {
-      const Eigen::Vector2d p = randomIn(mesh.faces[std::size_t(f)], rng);
+      const Eigen::Vector2d p = test::randomPointIn(mesh.faces[std::size_t(f)], rng);
       subd.basisAt(f, p, terms, 2);
       tspline.basisAt(f, p, reference, 2);
       std::map<int, FitBasisTerm> byVertex;
@@ -107,8 +102,8 @@ TEST_CASE("subd_fit_space: a partition of unity around extraordinary vertices", 
   for (int f = 0; f < cube.mesh.numFaces(); ++f)
     for (int k = 0; k < 10; ++k) {
       // Corners included: the extraordinary vertices themselves.
-      const Eigen::Vector2d p =
-          k == 0 ? Eigen::Vector2d::Zero() : randomIn(cube.mesh.faces[std::size_t(f)], rng);
+      const Eigen::Vector2d p = k == 0 ? Eigen::Vector2d::Zero()
+                                       : test::randomPointIn(cube.mesh.faces[std::size_t(f)], rng);
       subd.basisAt(f, p, terms, 2);
       REQUIRE(!terms.empty());
       const auto s = sums(terms);
@@ -129,7 +124,7 @@ TEST_CASE("subd_fit_space: the surface is CatmullClarkLimit's, derivatives inclu
   for (int f = 0; f < cube.mesh.numFaces(); ++f)
     for (int k = 0; k < 5; ++k) {
       const spline::TMeshFace& face = cube.mesh.faces[std::size_t(f)];
-      const Eigen::Vector2d p = randomIn(face, rng);
+      const Eigen::Vector2d p = test::randomPointIn(face, rng);
       subd.basisAt(f, p, terms, 2);
       const Eigen::Matrix<double, 6, 3> s = combine(terms, cube.vertexPoints);
       const auto l = limit.evaluate(f, p.x() / face.width, p.y() / face.height, true);

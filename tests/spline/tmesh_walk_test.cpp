@@ -15,15 +15,6 @@ using spline::TMesh;
 using spline::TMeshPoint;
 using spline::walkTMesh;
 
-namespace {
-
-Eigen::Vector2d randomIn(const spline::TMeshFace& face, std::mt19937& rng) {
-  std::uniform_real_distribution<double> unit(0.05, 0.95);
-  return {unit(rng) * face.width, unit(rng) * face.height};
-}
-
-}  // namespace
-
 TEST_CASE("tmesh_walk: on a planar T-mesh the walk is the straight segment", "[spline]") {
   // T-junctions on the way: a side made of several edges.
   const TMesh mesh = test::gridWithMerges(8, {{2, 2, 5, 4}, {0, 5, 3, 8}});
@@ -34,7 +25,7 @@ TEST_CASE("tmesh_walk: on a planar T-mesh the walk is the straight segment", "[s
   int crossings = 0;
   for (int k = 0; k < 300; ++k) {
     const int f = int(rng() % unsigned(mesh.numFaces()));
-    const TMeshPoint start{f, randomIn(mesh.faces[std::size_t(f)], rng)};
+    const TMeshPoint start{f, test::randomPointIn(mesh.faces[std::size_t(f)], rng, 0.05, 0.95)};
     const Eigen::Vector2d global = origin[std::size_t(f)] + start.position;
     // A target inside the square [0, 8]^2: the walk does not reach the boundary.
     const Eigen::Vector2d target(0.01 + 7.98 * unit(rng), 0.01 + 7.98 * unit(rng));
@@ -57,7 +48,7 @@ TEST_CASE("tmesh_walk: a whole period of a periodic grid comes back to the start
   std::mt19937 rng(5);
   for (int k = 0; k < 50; ++k) {
     const int f = int(rng() % unsigned(mesh.numFaces()));
-    const TMeshPoint start{f, randomIn(mesh.faces[std::size_t(f)], rng)};
+    const TMeshPoint start{f, test::randomPointIn(mesh.faces[std::size_t(f)], rng, 0.05, 0.95)};
     for (const Eigen::Vector2d& period :
          {Eigen::Vector2d(4, 0), Eigen::Vector2d(0, -4), Eigen::Vector2d(8, 4)}) {
       bool boundary = true;

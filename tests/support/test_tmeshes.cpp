@@ -117,6 +117,12 @@ int vertexAt(const spline::TMesh& mesh, const std::vector<Eigen::Vector2d>& orig
   return -1;
 }
 
+Eigen::Vector2d randomPointIn(const spline::TMeshFace& face, std::mt19937& rng, double lo,
+                              double hi) {
+  std::uniform_real_distribution<double> unit(lo, hi);
+  return {unit(rng) * face.width, unit(rng) * face.height};
+}
+
 Eigen::MatrixXd randomPoints(int rows, std::mt19937& rng) {
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   Eigen::MatrixXd points(rows, 3);

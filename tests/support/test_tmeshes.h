@@ -50,6 +50,11 @@ std::vector<Eigen::Vector2d> planarVertices(const spline::TMesh& mesh);
 int vertexAt(const spline::TMesh& mesh, const std::vector<Eigen::Vector2d>& origin,
              const Eigen::Vector2d& p);
 
+/// A point of `face` in its frame: x uniform in [lo, hi] times its width, then y in [lo, hi]
+/// times its height.
+Eigen::Vector2d randomPointIn(const spline::TMeshFace& face, std::mt19937& rng, double lo = 0.0,
+                              double hi = 1.0);
+
 /// `rows` points uniform in [-1, 1]^3, drawn row by row.
 Eigen::MatrixXd randomPoints(int rows, std::mt19937& rng);
 Eigen::MatrixXd randomPoints(int rows, unsigned seed);
