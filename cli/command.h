@@ -40,6 +40,7 @@ void addCheckCommand(CLI::App& app, Command& command);
 void addExportCommand(CLI::App& app, Command& command);
 void addCompareOsdCommand(CLI::App& app, Command& command);
 void addFitCommand(CLI::App& app, Command& command);
+void addViewCommand(CLI::App& app, Command& command);
 
 /// Prints one JSON object on stdout.
 void printJson(const Json& object);

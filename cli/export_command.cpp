@@ -1,23 +1,22 @@
 // mspline export: the evaluated surface of a spline model as a triangle mesh, with normals and
 // chart coordinates, and optionally its control net, an error map of a scan and a picture.
 //
-// Each model kind contributes a KindSurface (how to tessellate it at a resolution, how curved its
-// pieces are, its control net); everything after that is common.
+// spline::ModelSurface tessellates every model kind and gives its control net; the chord error
+// estimate of --tolerance reads second derivatives from its fit space.
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <iostream>
 
 #include "cli/command.h"
 #include "cli/flatten_pipeline.h"
+#include "io/error_map.h"
 #include "io/read_mesh.h"
 #include "io/shaded_picture.h"
 #include "io/spline_model_file.h"
 #include "io/write_mesh.h"
 #include "spline/filled_faces.h"
-#include "spline/tessellate.h"
-#include "spline/tri_bspline.h"
-#include "spline/tspline_tessellate.h"
+#include "spline/model_surface.h"
+#include "spline/spline_domain.h"
 #include "structure/closest_point.h"
 #include "structure/errors.h"
 
@@ -41,16 +40,6 @@ struct ExportArguments {
   std::string png;
 };
 
-// A tessellation of any kind: the mesh, a unit normal and chart coordinates per vertex, and the
-// kind's own entries for the report.
-struct Surface {
-  structure::PolygonSoup mesh;
-  std::vector<Point3> normals;
-  std::vector<std::array<double, 2>> uvs;
-  Json report = Json::object();
-  std::string note = "";  // appended to the human-readable summary
-};
-
 // A piece of the parameter domain (a domain face, a T-mesh face) for the chord error estimate:
 // the longest edge its grid has at resolution 1, and the largest norm of the second derivatives
 // seen in it.
@@ -59,231 +48,97 @@ struct PieceCurvature {
   double secondDerivative = 0.0;
 };
 
-struct ControlNet {
-  std::vector<Point3> points;
-  std::vector<std::array<std::int64_t, 2>> lines;
-  Json report = Json::object();
-};
-
-struct KindSurface {
-  std::string kind;
-  std::function<Surface(int resolution)> tessellate;
-  std::function<std::vector<PieceCurvature>()> curvature;
-  std::function<ControlNet()> controlNet;
-};
-
 Point3 point3(const Eigen::VectorXd& x) {
   return {x[0], x[1], x[2]};
 }
 
-// sqrt(|xuu|^2 + 2 |xuv|^2 + |xvv|^2) bounds |x''| along every unit direction in the chart.
-double secondDerivativeNorm(const Eigen::VectorXd& uu, const Eigen::VectorXd& uv,
-                            const Eigen::VectorXd& vv) {
-  return std::sqrt(uu.squaredNorm() + 2.0 * uv.squaredNorm() + vv.squaredNorm());
+// The largest sqrt(|xuu|^2 + 2 |xuv|^2 + |xvv|^2) (a bound of |x''| along every unit direction in
+// the chart) of the surface at `points`, those where it is undefined (a cone point, a hole)
+// skipped.
+double largestSecondDerivative(const spline::FitSpace& space, const Eigen::MatrixXd& control,
+                               const std::vector<spline::FitParameter>& points) {
+  double largest = 0.0;
+  std::vector<spline::FitBasisTerm> terms;
+  for (const spline::FitParameter& p : points) {
+    space.basisAt(p, terms, 2);
+    if (terms.empty()) continue;
+    Eigen::Vector3d ss = Eigen::Vector3d::Zero(), st = ss, tt = ss;
+    for (const spline::FitBasisTerm& b : terms) {
+      ss += b.dss * control.row(b.index).transpose();
+      st += b.dst * control.row(b.index).transpose();
+      tt += b.dtt * control.row(b.index).transpose();
+    }
+    const double m = std::sqrt(ss.squaredNorm() + 2.0 * st.squaredNorm() + tt.squaredNorm());
+    if (std::isfinite(m)) largest = std::max(largest, m);
+  }
+  return largest;
 }
 
-// Per T-mesh face: its diagonal, and the largest second derivative norm among the 3 x 3 interior
-// points of its 4 x 4 grid (`second` gives x_ss, x_st, x_tt at a point; false where undefined).
-template <class SecondDerivatives>
-std::vector<PieceCurvature> tmeshCurvature(const spline::TMesh& mesh, SecondDerivatives&& second) {
+// The model's pieces: per domain face its longest side and the points of its barycentric grid of
+// 3 steps other than the corners (where cones would have no derivative); per T-mesh face its
+// diagonal and the 3 x 3 interior points of its 4 x 4 grid.
+std::vector<PieceCurvature> modelCurvature(const spline::ModelSurface& surface,
+                                           const spline::SplineModel& model) {
   std::vector<PieceCurvature> pieces;
-  Eigen::VectorXd ss, st, tt;
-  for (int f = 0; f < mesh.numFaces(); ++f) {
-    const spline::TMeshFace& face = mesh.faces[std::size_t(f)];
-    PieceCurvature piece{std::hypot(face.width, face.height), 0.0};
+  std::vector<spline::FitParameter> points;
+  const auto add = [&](double length) {
+    pieces.push_back(
+        {length, largestSecondDerivative(surface.fitSpace(), model.controlPoints, points)});
+    points.clear();
+  };
+  if (surface.kind() == spline::SplineKind::TriangularBSpline) {
+    const spline::SplineDomain& domain = model.domain;
+    for (int f = 0; f < domain.faceCount(); ++f) {
+      const auto corners = spline::canonicalCorners(domain, f);
+      for (int i = 0; i <= 3; ++i)
+        for (int j = 0; i + j <= 3; ++j)
+          if (i < 3 && j < 3 && i + j > 0)
+            points.push_back(
+                {f, ((3 - i - j) * corners[0] + i * corners[1] + j * corners[2]) / 3.0});
+      const auto& sides = domain.sideLengths[std::size_t(f)];
+      add(std::max({sides[0], sides[1], sides[2]}));
+    }
+    return pieces;
+  }
+  for (int f = 0; f < model.tmesh.numFaces(); ++f) {
+    const spline::TMeshFace& face = model.tmesh.faces[std::size_t(f)];
     for (int i = 1; i < 4; ++i)
-      for (int j = 1; j < 4; ++j) {
-        const Eigen::Vector2d p(face.width * i / 4.0, face.height * j / 4.0);
-        if (!second(f, p, ss, st, tt)) continue;
-        const double m = secondDerivativeNorm(ss, st, tt);
-        if (std::isfinite(m)) piece.secondDerivative = std::max(piece.secondDerivative, m);
-      }
-    pieces.push_back(piece);
+      for (int j = 1; j < 4; ++j)
+        points.push_back({f, Eigen::Vector2d(face.width * i / 4.0, face.height * j / 4.0)});
+    add(std::hypot(face.width, face.height));
   }
   return pieces;
 }
 
-// Calls edge(a, b) once for every T-mesh edge (vertices a to b).
-template <class Edge>
-void forEachTMeshEdge(const spline::TMesh& mesh, Edge&& edge) {
-  for (int f = 0; f < mesh.numFaces(); ++f) {
-    const spline::TMeshFace& face = mesh.faces[std::size_t(f)];
-    const std::size_t n = face.vertices.size();
-    for (std::size_t k = 0; k < n; ++k) {
-      const int g = face.twinFace[k];
-      if (g >= 0 && (g < f || (g == f && std::size_t(face.twinEdge[k]) < k))) continue;
-      edge(face.vertices[k], face.vertices[(k + 1) % n]);
-    }
+// The control net's points and lines (as indices into the points) and the kind's figures.
+Json writeControlNet(const std::string& path, const spline::ModelSurface& surface,
+                     const spline::SplineModel& model) {
+  const spline::ModelControlNet net = surface.controlNet();
+  std::vector<Point3> points;
+  std::vector<std::int64_t> pointOfRow(std::size_t(surface.numControlPoints()), -1);
+  for (int row : net.points) {
+    pointOfRow[std::size_t(row)] = std::int64_t(points.size());
+    points.push_back(point3(model.controlPoints.row(row).transpose()));
   }
-}
-
-KindSurface triBSplineSurface(const ExportArguments& a, const spline::SplineModel& model) {
-  auto space = std::make_shared<spline::TriBSplineSpace>(model.domain, model.knots);
-  if (model.controlPoints.rows() != space->numBasis() || model.controlPoints.cols() != 3)
-    throw structure::InputError(a.model + ": the control points do not fit the spline");
-  KindSurface out;
-  out.kind = "tribspline";
-  out.tessellate = [space, &model](int resolution) {
-    spline::Tessellation t = spline::tessellate(*space, model.controlPoints, resolution);
-    Surface s{std::move(t.mesh), std::move(t.normals), std::move(t.uvs)};
-    s.report = {{"min_denominator", t.minDenominator}, {"cone_vertices", t.coneVertices}};
-    return s;
-  };
-  // Per domain face: its longest side, and second derivatives at the points of its barycentric
-  // grid of 3 steps other than the corners (where cones would have no derivative).
-  out.curvature = [space, &model] {
-    std::vector<PieceCurvature> pieces;
-    const spline::SplineDomain& domain = space->domain();
-    for (int f = 0; f < domain.faceCount(); ++f) {
-      PieceCurvature piece;
-      for (double side : domain.sideLengths[std::size_t(f)])
-        piece.length = std::max(piece.length, side);
-      for (int i = 0; i <= 3; ++i)
-        for (int j = 0; i + j <= 3; ++j) {
-          if (i == 3 || j == 3 || i + j == 0) continue;
-          const spline::DomainPoint point{f, Eigen::Vector3d(3 - i - j, i, j) / 3.0};
-          const spline::SplinePoint x = space->evaluate(model.controlPoints, point, 2);
-          const double m = secondDerivativeNorm(x.duu, x.duv, x.dvv);
-          if (std::isfinite(m)) piece.secondDerivative = std::max(piece.secondDerivative, m);
-        }
-      pieces.push_back(piece);
+  std::vector<std::array<std::int64_t, 2>> lines;
+  for (const auto& [a, b] : net.lines)
+    lines.push_back({pointOfRow[std::size_t(a)], pointOfRow[std::size_t(b)]});
+  io::writeObjLines(path, points, lines);
+  Json entry{{"output", path}, {"points", points.size()}, {"lines", lines.size()}};
+  if (surface.kind() == spline::SplineKind::TriangularBSpline) {
+    entry["faces"] = model.domain.faceCount();
+  } else if (surface.kind() == spline::SplineKind::TSpline) {
+    // Every T-mesh edge once: the sides with a twin count half.
+    std::size_t sides = 0, boundary = 0;
+    for (const spline::TMeshFace& face : model.tmesh.faces) {
+      sides += face.vertices.size();
+      boundary += std::size_t(std::count(face.twinFace.begin(), face.twinFace.end(), -1));
     }
-    return pieces;
-  };
-  // Per domain face, lines between the control points of beta and beta - e_i + e_j.
-  out.controlNet = [space, &model] {
-    ControlNet net;
-    for (Eigen::Index k = 0; k < model.controlPoints.rows(); ++k)
-      net.points.push_back(point3(model.controlPoints.row(k).transpose()));
-    const int n = space->degree();
-    // Row of beta within its face: beta_0 descending, then beta_1 descending.
-    std::vector<std::array<int, 3>> betas;
-    for (int b0 = n; b0 >= 0; --b0)
-      for (int b1 = n - b0; b1 >= 0; --b1) betas.push_back({b0, b1, n - b0 - b1});
-    const auto rowOf = [&](const std::array<int, 3>& beta) {
-      return int(std::find(betas.begin(), betas.end(), beta) - betas.begin());
-    };
-    for (int f = 0; f < space->domain().faceCount(); ++f)
-      for (std::size_t k = 0; k < betas.size(); ++k)
-        for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j) {
-            std::array<int, 3> other = betas[k];
-            if (i == j || other[std::size_t(i)] == 0) continue;
-            --other[std::size_t(i)];
-            ++other[std::size_t(j)];
-            const int m = rowOf(other);
-            if (m > int(k))
-              net.lines.push_back({std::int64_t(f) * space->basisPerFace() + std::int64_t(k),
-                                   std::int64_t(f) * space->basisPerFace() + m});
-          }
-    net.report = {{"faces", space->domain().faceCount()}};
-    return net;
-  };
-  return out;
-}
-
-KindSurface tSplineSurface(const ExportArguments& a, const spline::SplineModel& model) {
-  auto space = std::make_shared<spline::TSplineSpace>(model.tmesh);
-  if (model.controlPoints.rows() != space->numBasis() || model.controlPoints.cols() != 3)
-    throw structure::InputError(a.model + ": the control points do not fit the T-spline");
-  KindSurface out;
-  out.kind = "tspline";
-  out.tessellate = [space, &model, &a](int resolution) {
-    spline::TSplineTessellation t;
-    try {
-      t = spline::tessellateTSpline(*space, model.controlPoints, model.weights, resolution);
-    } catch (const structure::InputError& e) {
-      throw structure::InputError(a.model + ": " + e.what());
-    }
-    Surface s{std::move(t.mesh), std::move(t.normals), std::move(t.uvs)};
-    s.report = {{"min_denominator", t.minDenominator},
-                {"hole_samples", t.holeVertices.size()},
-                {"hole_offset", t.holeOffset},
-                {"collapsed_edge_samples", t.collapsedEdgeSamples}};
-    if (!t.holeVertices.empty())
-      s.note = ", " + std::to_string(t.holeVertices.size()) + " samples closing holes";
-    return s;
-  };
-  // Second derivatives at the 3 x 3 interior points of each face's 4 x 4 grid (points in a hole,
-  // NaN, are skipped).
-  out.curvature = [space, &model] {
-    return tmeshCurvature(space->mesh(), [&](int f, const Eigen::Vector2d& p, Eigen::VectorXd& ss,
-                                             Eigen::VectorXd& st, Eigen::VectorXd& tt) {
-      const spline::TSplinePoint x = space->evaluate(model.controlPoints, model.weights, f, p, 2);
-      ss = x.dss;
-      st = x.dst;
-      tt = x.dtt;
-      return true;
-    });
-  };
-  // Every anchored T-mesh vertex's control point, and the T-mesh edges between two of them.
-  out.controlNet = [space, &model] {
-    ControlNet net;
-    const spline::TMesh& mesh = space->mesh();
-    std::vector<std::int64_t> pointOf(std::size_t(mesh.numVertices), -1);
-    for (int v = 0; v < mesh.numVertices; ++v) {
-      const int anchor = space->anchorOfVertex()[std::size_t(v)];
-      if (anchor < 0) continue;
-      pointOf[std::size_t(v)] = std::int64_t(net.points.size());
-      net.points.push_back(point3(model.controlPoints.row(anchor).transpose()));
-    }
-    int skipped = 0;
-    forEachTMeshEdge(mesh, [&](int from, int to) {
-      const std::int64_t p = pointOf[std::size_t(from)], q = pointOf[std::size_t(to)];
-      if (p < 0 || q < 0)
-        ++skipped;
-      else
-        net.lines.push_back({p, q});
-    });
-    net.report = {{"missing_anchors", space->missingAnchors().size()},
-                  {"edges_skipped", skipped},
-                  {"note", "vertices without a blending function are left out, with their edges"}};
-    return net;
-  };
-  return out;
-}
-
-// Subdivision surfaces: the Catmull-Clark limit of the T-mesh's net (spline::tessellateSubd).
-KindSurface subdSurface(const ExportArguments& a, const spline::SplineModel& model) {
-  std::shared_ptr<spline::SubdSpace> space;
-  try {
-    space = std::make_shared<spline::SubdSpace>(model.tmesh);
-  } catch (const structure::InputError& e) {
-    throw structure::InputError(a.model + ": " + e.what());
+    entry["missing_anchors"] = std::size_t(model.tmesh.numVertices) - points.size();
+    entry["edges_skipped"] = int((sides + boundary) / 2 - lines.size());
+    entry["note"] = "vertices without a blending function are left out, with their edges";
   }
-  if (model.controlPoints.rows() != space->numBasis() || model.controlPoints.cols() != 3)
-    throw structure::InputError(a.model + ": the control points do not fit the subdivision net");
-  KindSurface out;
-  out.kind = "subd";
-  out.tessellate = [space, &model](int resolution) {
-    spline::TMeshTessellation t = spline::tessellateSubd(*space, model.controlPoints, resolution);
-    return Surface{std::move(t.mesh), std::move(t.normals), std::move(t.uvs)};
-  };
-  // Second derivatives at the 3 x 3 interior points of each face's 4 x 4 grid.
-  out.curvature = [space, &model] {
-    std::vector<spline::FitBasisTerm> terms;
-    return tmeshCurvature(space->mesh(), [&](int f, const Eigen::Vector2d& p, Eigen::VectorXd& ss,
-                                             Eigen::VectorXd& st, Eigen::VectorXd& tt) {
-      space->basisAt(f, p, terms, 2);
-      ss = st = tt = Eigen::VectorXd::Zero(3);
-      for (const spline::FitBasisTerm& b : terms) {
-        ss += b.dss * model.controlPoints.row(b.index).transpose();
-        st += b.dst * model.controlPoints.row(b.index).transpose();
-        tt += b.dtt * model.controlPoints.row(b.index).transpose();
-      }
-      return !terms.empty();
-    });
-  };
-  // The net: a point per T-mesh vertex, every T-mesh edge once.
-  out.controlNet = [space, &model] {
-    ControlNet net;
-    const spline::TMesh& mesh = space->mesh();
-    for (int v = 0; v < mesh.numVertices; ++v)
-      net.points.push_back(point3(model.controlPoints.row(v).transpose()));
-    forEachTMeshEdge(mesh, [&](int from, int to) { net.lines.push_back({from, to}); });
-    return net;
-  };
-  return out;
+  return entry;
 }
 
 double boxDiagonal(const std::vector<Point3>& points) {
@@ -329,19 +184,10 @@ std::vector<std::array<int, 3>> triangles(const structure::PolygonSoup& soup) {
   return out;
 }
 
-// Blue (0) through white (half the scale) to red (the scale and above).
-std::array<std::uint8_t, 3> errorColor(double t) {
-  t = std::clamp(t, 0.0, 1.0);
-  const auto c = [](double x) { return std::uint8_t(std::lround(255.0 * x)); };
-  if (t < 0.5) return {c(2.0 * t), c(2.0 * t), 255};
-  return {255, c(2.0 - 2.0 * t), c(2.0 - 2.0 * t)};
-}
-
-// Every scan vertex's distance to the surface, and the scan written with colors. The color
-// scale is the distances' 99th percentile (robust to a few stray scan points; larger distances
-// are red too).
+// Every scan vertex's distance to the surface, and the scan written with colors
+// (io/error_map.h).
 Json writeErrorMap(const std::string& scanPath, const std::string& outPath,
-                   const Surface& surface) {
+                   const spline::ModelTessellation& surface) {
   if (io::meshFormatFromPath(outPath) != io::MeshFormat::Ply)
     throw structure::InputError("--error-map: '" + outPath + "' must be a .ply file (colors)");
   io::MeshReadResult scan = io::readMesh(scanPath);
@@ -349,31 +195,19 @@ Json writeErrorMap(const std::string& scanPath, const std::string& outPath,
     throw structure::InputError(scanPath + ": the scan has no vertices");
   const structure::TriangleMeshDistance distance(toMatrix(surface.mesh.positions),
                                                  triangles(surface.mesh));
-  const auto hits = distance.queryAll(toMatrix(scan.soup.positions));
-  std::vector<double> d;
-  double squares = 0.0, largest = 0.0;
-  for (const auto& hit : hits) {
-    d.push_back(hit.distance);
-    squares += hit.distance * hit.distance;
-    largest = std::max(largest, hit.distance);
-  }
-  std::vector<double> sorted = d;
-  const std::size_t rank = std::min(sorted.size() - 1, std::size_t(0.99 * double(sorted.size())));
-  std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(rank), sorted.end());
-  const double scale = sorted[rank] > 0.0 ? sorted[rank] : (largest > 0.0 ? largest : 1.0);
+  const io::ErrorMap map = io::errorMap(toMatrix(scan.soup.positions), distance);
   io::VertexAttributes attributes;
-  for (double x : d) attributes.colors.push_back(errorColor(x / scale));
+  attributes.colors = map.colors;
   scan.soup.sourceName = scanPath;
   io::writeMesh(outPath, scan.soup, attributes);
   const double diagonal = boxDiagonal(scan.soup.positions);
-  const double rms = std::sqrt(squares / double(d.size()));
   return {{"scan", scanPath},
           {"output", outPath},
-          {"vertices", d.size()},
-          {"rms", diagonal > 0 ? rms / diagonal : 0.0},
-          {"max", diagonal > 0 ? largest / diagonal : 0.0},
-          {"max_absolute", largest},
-          {"color_scale", scale},
+          {"vertices", map.distances.size()},
+          {"rms", diagonal > 0 ? map.rms / diagonal : 0.0},
+          {"max", diagonal > 0 ? map.max / diagonal : 0.0},
+          {"max_absolute", map.max},
+          {"color_scale", map.scale},
           {"note",
            "rms, max relative to the scan's bounding-box diagonal; colors blue (0), white, "
            "red (color_scale, the 99th percentile, and above)"}};
@@ -388,11 +222,8 @@ int runExport(const ExportArguments& a, const Command& command) {
     throw structure::InputError("--error-map: '" + a.errorMap[1] + "' must be a .ply file");
   Stopwatch clock;
   const spline::SplineModel model = io::readSplineModel(a.model);
-  const KindSurface kind = model.kind == spline::SplineKind::TSpline ? tSplineSurface(a, model)
-                           : model.kind == spline::SplineKind::Subdivision
-                               ? subdSurface(a, model)
-                               : triBSplineSurface(a, model);
-  Json report{{"file", a.model}, {"kind", kind.kind}, {"output", a.output}};
+  const spline::ModelSurface modelSurface(model, a.model);
+  Json report{{"file", a.model}, {"kind", modelSurface.kindName()}, {"output", a.output}};
 
   int resolution = a.resolution;
   std::vector<PieceCurvature> pieces;
@@ -405,10 +236,10 @@ int runExport(const ExportArguments& a, const Command& command) {
       for (Eigen::Index v = 0; v < model.controlPoints.rows(); ++v)
         box.push_back(point3(model.controlPoints.row(v).transpose()));
     diagonal = boxDiagonal(box);
-    pieces = kind.curvature();
+    pieces = modelCurvature(modelSurface, model);
     resolution = resolutionForChordError(pieces, a.tolerance * diagonal);
   }
-  Surface surface = kind.tessellate(resolution);
+  spline::ModelTessellation surface = modelSurface.tessellate(model.controlPoints, resolution);
   surface.mesh.sourceName = a.output;
   // A scan's holes were closed by fill patches for the fit: trimmed away again here.
   const auto renumber = [&](const std::vector<int>& newIndex) {
@@ -439,16 +270,19 @@ int runExport(const ExportArguments& a, const Command& command) {
   report["faces"] = surface.mesh.faces.size();
   report["trimmed_faces"] = trimmed;
   report["normals"] = surface.normals.size();
-  report.update(surface.report);
-
-  if (!a.controlNet.empty()) {
-    const ControlNet net = kind.controlNet();
-    io::writeObjLines(a.controlNet, net.points, net.lines);
-    Json entry{
-        {"output", a.controlNet}, {"points", net.points.size()}, {"lines", net.lines.size()}};
-    entry.update(net.report);
-    report["control_net"] = entry;
+  std::string note;  // appended to the human-readable summary
+  for (const spline::TessellationFigure& figure : surface.report) {
+    if (figure.count)
+      report[figure.name] = std::int64_t(figure.value);
+    else
+      report[figure.name] = figure.value;
+    if (modelSurface.kind() == spline::SplineKind::TSpline && figure.name == "hole_samples" &&
+        figure.value > 0)
+      note = ", " + std::to_string(std::int64_t(figure.value)) + " samples closing holes";
   }
+
+  if (!a.controlNet.empty())
+    report["control_net"] = writeControlNet(a.controlNet, modelSurface, model);
   if (!a.errorMap.empty())
     report["error_map"] = writeErrorMap(a.errorMap[0], a.errorMap[1], surface);
   if (!a.png.empty()) {
@@ -461,8 +295,8 @@ int runExport(const ExportArguments& a, const Command& command) {
   if (command.json) {
     printJson(report);
   } else {
-    std::cout << "wrote " << a.output << " (" << surface.mesh.faces.size() << " triangles"
-              << surface.note << ", resolution " << resolution << ")" << std::endl;
+    std::cout << "wrote " << a.output << " (" << surface.mesh.faces.size() << " triangles" << note
+              << ", resolution " << resolution << ")" << std::endl;
     if (report.contains("error_map"))
       std::cout << "error map " << a.errorMap[1] << ": rms "
                 << report["error_map"]["rms"].get<double>() << ", max "

@@ -65,6 +65,7 @@ int main(int argc, char** argv) {
   addCheckCommand(app, command);
   addExportCommand(app, command);
   addCompareOsdCommand(app, command);
+  addViewCommand(app, command);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

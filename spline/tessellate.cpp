@@ -34,6 +34,7 @@ Tessellation tessellate(const TriBSplineSpace& space, const Eigen::MatrixXd& con
   struct Sample {
     Eigen::Vector3d position = Eigen::Vector3d::Zero();
     Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // zero where du x dv vanishes
+    DomainPoint evaluated;                             // where the spline was evaluated
   };
   const auto sample = [&](const DomainPoint& at) {
     // The normalized basis is non-negative and sums to 1; where its denominator is so small that
@@ -51,6 +52,7 @@ Tessellation tessellate(const TriBSplineSpace& space, const Eigen::MatrixXd& con
     }
     out.minDenominator = std::min(out.minDenominator, denominator);
     Sample s;
+    s.evaluated = point;
     Eigen::Vector3d du = Eigen::Vector3d::Zero(), dv = Eigen::Vector3d::Zero();
     for (std::size_t k = 0; k < basis.index.size(); ++k) {
       const Eigen::Vector3d c = control.row(basis.index[k]).transpose();
@@ -62,7 +64,13 @@ Tessellation tessellate(const TriBSplineSpace& space, const Eigen::MatrixXd& con
     if (n.norm() > 0.0) s.normal = n.normalized();
     return s;
   };
-  const auto add = [&](const Sample& s, const DomainPoint& point) {
+  out.sampleOffsets.push_back(0);
+  // A mesh vertex at `s`, which is the spline at `evaluated` (their mean), with the chart
+  // coordinates of `point`.
+  const auto add = [&](const Sample& s, const DomainPoint& point,
+                       const std::vector<DomainPoint>& evaluated) {
+    out.samplePoints.insert(out.samplePoints.end(), evaluated.begin(), evaluated.end());
+    out.sampleOffsets.push_back(std::int64_t(out.samplePoints.size()));
     out.mesh.positions.push_back({s.position.x(), s.position.y(), s.position.z()});
     out.normals.push_back({s.normal.x(), s.normal.y(), s.normal.z()});
     const Eigen::Vector2d uv = space.framePosition(point);
@@ -75,6 +83,7 @@ Tessellation tessellate(const TriBSplineSpace& space, const Eigen::MatrixXd& con
   std::vector<Sample> coneSum(std::size_t(domain.vertexCount()));
   std::vector<int> coneFaces(std::size_t(domain.vertexCount()), 0);
   std::vector<DomainPoint> coneCorner(std::size_t(domain.vertexCount()));
+  std::vector<std::vector<DomainPoint>> coneEvaluated(std::size_t(domain.vertexCount()));
   for (int f = 0; f < domain.faceCount(); ++f)
     for (int c = 0; c < 3; ++c) {
       const int v = domain.faces[std::size_t(f)][std::size_t(c)];
@@ -92,6 +101,7 @@ Tessellation tessellate(const TriBSplineSpace& space, const Eigen::MatrixXd& con
         const Sample farther = offCone(10.0 * kConeOffset);
         const double step = (farther.position - offCone(100.0 * kConeOffset).position).norm();
         if (!((s.position - farther.position).norm() <= step)) s = farther;
+        coneEvaluated[std::size_t(v)].push_back(s.evaluated);
         coneSum[std::size_t(v)].position += s.position;
         coneSum[std::size_t(v)].normal += s.normal;
         if (coneFaces[std::size_t(v)]++ == 0) {
@@ -100,7 +110,8 @@ Tessellation tessellate(const TriBSplineSpace& space, const Eigen::MatrixXd& con
         }
       } else if (vertexSample[std::size_t(v)] < 0) {
         point.barycentric[c] = 1.0;
-        vertexSample[std::size_t(v)] = add(sample(point), point);
+        const Sample s = sample(point);
+        vertexSample[std::size_t(v)] = add(s, point, {s.evaluated});
       }
     }
   for (int v = 0; v < domain.vertexCount(); ++v)
@@ -108,7 +119,9 @@ Tessellation tessellate(const TriBSplineSpace& space, const Eigen::MatrixXd& con
       Sample mean = coneSum[std::size_t(v)];
       mean.position /= coneFaces[std::size_t(v)];
       if (mean.normal.norm() > 0.0) mean.normal.normalize();
-      vertexSample[std::size_t(v)] = add(mean, coneCorner[std::size_t(v)]);
+      vertexSample[std::size_t(v)] =
+          add(mean, coneCorner[std::size_t(v)], coneEvaluated[std::size_t(v)]);
+      out.coneSamples.push_back(vertexSample[std::size_t(v)]);
       ++out.coneVertices;
     }
 
@@ -128,7 +141,8 @@ Tessellation tessellate(const TriBSplineSpace& space, const Eigen::MatrixXd& con
       DomainPoint point{f, Eigen::Vector3d::Zero()};
       point.barycentric[k] = double(r - i) / r;
       point.barycentric[(k + 1) % 3] = double(i) / r;
-      samples.push_back(add(sample(point), point));
+      const Sample s = sample(point);
+      samples.push_back(add(s, point, {s.evaluated}));
     }
     return samples;
   };
@@ -153,7 +167,8 @@ Tessellation tessellate(const TriBSplineSpace& space, const Eigen::MatrixXd& con
     for (int b = 1; b < r; ++b)
       for (int a = 1; a + b < r; ++a) {
         const DomainPoint point{f, Eigen::Vector3d(double(r - a - b), double(a), double(b)) / r};
-        grid[at(a, b)] = add(sample(point), point);
+        const Sample s = sample(point);
+        grid[at(a, b)] = add(s, point, {s.evaluated});
       }
     for (int b = 0; b < r; ++b)
       for (int a = 0; a + b < r; ++a) {

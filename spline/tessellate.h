@@ -2,6 +2,7 @@
 // The spline surface as a triangle mesh: every domain face sampled on a regular barycentric grid,
 // the samples on shared sides and vertices computed once and shared, so the mesh is watertight.
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -20,6 +21,8 @@ struct Tessellation {
   /// the points `coneOffset` (barycentric) into each face around them.
   int coneVertices = 0;
   double coneOffset = 0.0;
+  /// The mesh vertices of those cone samples (ascending).
+  std::vector<std::int64_t> coneSamples;
   /// Per mesh vertex: the unit normal du x dv / |du x dv| of the spline (derivatives in the
   /// sampling face's frame, which is counter-clockwise, so the normal points to the side the
   /// triangles face). A cone vertex gets the normalized mean of the normals at its offset points;
@@ -29,6 +32,13 @@ struct Tessellation {
   /// that reaches it: a vertex shared by faces gets that face's chart coordinates only). Chart
   /// coordinates, not a texture atlas: they jump between faces.
   std::vector<std::array<double, 2>> uvs;
+  /// Where the spline was evaluated (CSR): mesh vertex v is the mean of the spline at
+  /// samplePoints[sampleOffsets[v] .. sampleOffsets[v + 1]), one point per vertex but the cone
+  /// samples (one per face around the cone). A point is the grid point, or where rounding breaks
+  /// the normalization there, the point moved a little towards its face's centre that was
+  /// evaluated instead. sampleOffsets has one entry more than the mesh has vertices.
+  std::vector<std::int64_t> sampleOffsets;
+  std::vector<DomainPoint> samplePoints;
 };
 
 /// Samples the spline with control points `control` (3 columns) `resolution` times along every

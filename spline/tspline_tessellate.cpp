@@ -58,13 +58,16 @@ TMeshTessellation tessellateTMeshSurface(const TMesh& mesh, const TMeshSurface& 
   const auto surfaceAt = [&](int f, const Eigen::Vector2d& p, Eigen::Vector3d& x) {
     return surface(f, p, x, nullptr) && x.allFinite();
   };
+  out.sampleOffsets.push_back(0);
   // A sample at the surface point given by `placements` (the same point in the frames of every
   // face holding it); all of them are used only in a hole.
   const auto add = [&](const std::vector<TMeshPoint>& placements) {
     const auto index = std::int64_t(out.mesh.positions.size());
     const TMeshPoint& point = placements.front();
     Eigen::Vector3d x;
-    if (!surfaceAt(point.face, point.position, x)) {
+    if (surfaceAt(point.face, point.position, x)) {
+      out.samplePoints.push_back(point);
+    } else {
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
       int count = 0;
       for (const TMeshPoint& q : placements) {
@@ -74,7 +77,9 @@ TMeshTessellation tessellateTMeshSurface(const TMesh& mesh, const TMeshSurface& 
         // would put them all at the face centre: degenerate triangles).
         for (double t : {kHoleOffset, 1e-2, 0.03, 0.06, 0.1, 0.15, 0.2, 0.3, 0.4, 0.6, 1.0}) {
           Eigen::Vector3d y;
-          if (surfaceAt(q.face, q.position + t * (centre - q.position), y)) {
+          const Eigen::Vector2d off = q.position + t * (centre - q.position);
+          if (surfaceAt(q.face, off, y)) {
+            out.samplePoints.push_back({q.face, off});
             sum += y;
             ++count;
             break;
@@ -87,6 +92,7 @@ TMeshTessellation tessellateTMeshSurface(const TMesh& mesh, const TMeshSurface& 
       x = sum / count;
       out.holeVertices.push_back(int(index));
     }
+    out.sampleOffsets.push_back(std::int64_t(out.samplePoints.size()));
     out.mesh.positions.push_back({x.x(), x.y(), x.z()});
     out.vertexPoints.push_back(point);
     return index;
@@ -155,6 +161,10 @@ TMeshTessellation tessellateTMeshSurface(const TMesh& mesh, const TMeshSurface& 
           if (surfaceAt(f, inside, x)) {
             out.mesh.positions[std::size_t(index)] = {x.x(), x.y(), x.z()};
             out.vertexPoints[std::size_t(index)] = {f, inside};
+            // The last sample added: its evaluated points are the last ones.
+            out.samplePoints.resize(std::size_t(out.sampleOffsets[std::size_t(index)]));
+            out.samplePoints.push_back({f, inside});
+            out.sampleOffsets.back() = std::int64_t(out.samplePoints.size());
             ++out.collapsedEdgeSamples;
           }
         }

@@ -26,6 +26,7 @@
 // the hole too): the limit of the surface around the hole, a point it approaches to O(holeOffset).
 // No NaN is written.
 #include <array>
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -49,7 +50,7 @@ struct TMeshTessellation {
   /// The surface's triangles, counter-clockwise in the face frames.
   structure::PolygonSoup mesh;
   /// Per mesh vertex: the T-mesh point it is the surface at (for a hole sample, the point in the
-  /// hole it stands for).
+  /// hole it stands for). Mesh vertex v < TMesh::numVertices is T-mesh vertex v's sample.
   std::vector<TMeshPoint> vertexPoints;
   /// The mesh vertices that are hole samples (ascending).
   std::vector<int> holeVertices;
@@ -66,6 +67,12 @@ struct TMeshTessellation {
   /// Per mesh vertex: its chart coordinates, vertexPoints' position in the frame of its T-mesh face
   /// (for a vertex shared by faces, the first face that holds it).
   std::vector<std::array<double, 2>> uvs;
+  /// Where the surface was evaluated (CSR): mesh vertex v is the mean of the surface at
+  /// samplePoints[sampleOffsets[v] .. sampleOffsets[v + 1]): vertexPoints[v] for every vertex but
+  /// the hole samples, which have the points off the hole (one per face around it that has one).
+  /// sampleOffsets has one entry more than the mesh has vertices.
+  std::vector<std::int64_t> sampleOffsets;
+  std::vector<TMeshPoint> samplePoints;
 };
 
 struct TSplineTessellation : TMeshTessellation {

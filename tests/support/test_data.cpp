@@ -77,4 +77,13 @@ nlohmann::json runJson(const std::string& arguments, int expectedExit) {
   return nlohmann::json::parse(result.out);
 }
 
+std::string fitModel(const std::string& meshName, const std::string& kind, const std::string& path,
+                     const std::string& arguments) {
+  const CommandResult fit = runCommand(cliPath() + " fit " + realMeshPath(meshName) + " --kind " +
+                                       kind + " " + arguments + " -q -o " + path);
+  INFO("fit " << meshName << " " << kind << ": " << fit.err);
+  REQUIRE(fit.exitCode == 0);
+  return path;
+}
+
 }  // namespace mspline::test

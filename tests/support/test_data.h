@@ -35,4 +35,12 @@ CommandResult runCommand(const std::string& commandLine);
 /// showing the command's stderr, unless it exits with `expectedExit`.
 nlohmann::json runJson(const std::string& arguments, int expectedExit = 0);
 
+/// Fits a model of `kind` (tspline, tribspline, subd) to the real mesh `meshName` with
+/// `mspline fit` and small budgets (`arguments` adds or overrides options), writes it to `path`
+/// and returns `path`; fails the test when the fit fails.
+std::string fitModel(const std::string& meshName, const std::string& kind, const std::string& path,
+                     const std::string& arguments =
+                         "--control 300 --max-control 500 --rounds 1 "
+                         "--max-refinements 0");
+
 }  // namespace mspline::test
