@@ -90,7 +90,7 @@ MeshGeometry surfaceGeometry(const EditSession& session) {
   return g;
 }
 
-// Checker squares per chart unit: about four along a typical face side.
+// Checker squares per chart unit: 2 x 2 on a typical face (every face has a frame of its own).
 double patternScaleOf(const MeshGeometry& g, int resolution) {
   std::vector<double> lengths;
   for (const auto& uv : g.cornerUVs)
@@ -99,7 +99,7 @@ double patternScaleOf(const MeshGeometry& g, int resolution) {
   std::nth_element(lengths.begin(), lengths.begin() + std::ptrdiff_t(lengths.size() / 2),
                    lengths.end());
   const double faceSide = lengths[lengths.size() / 2] * resolution;
-  return faceSide > 0.0 ? 4.0 / faceSide : 1.0;
+  return faceSide > 0.0 ? 2.0 / faceSide : 1.0;
 }
 
 struct Timings {
@@ -611,7 +611,8 @@ class Viewer {
       ImGui::Separator();
       ImGui::Text("%s, %d control points", session_->surface().kindName().c_str(),
                   int(session_->model().controlPoints.rows()));
-      ImGui::Text("%d extraordinary, %d T-junctions", int(net.extraordinary.size()),
+      ImGui::Text("%d cones, %d extraordinary net points, %d T-junctions",
+                  int(session_->tessellation().coneVertices.size()), int(net.extraordinary.size()),
                   int(net.tJunctions.size()));
       ImGui::Text("surface: %d vertices, %d triangles", int(session_->positions().rows()),
                   int(session_->tessellation().mesh.faces.size()));
