@@ -89,18 +89,25 @@ void main() {
 }
 )";
 
+// Throws IoError with the driver's log (the object deleted) unless `object`'s `status` is set.
+void requireStatus(GLuint object, GLenum status, void (*get)(GLuint, GLenum, GLint*),
+                   void (*log)(GLuint, GLsizei, GLsizei*, GLchar*), void (*destroy)(GLuint),
+                   const std::string& what) {
+  GLint ok = 0;
+  get(object, status, &ok);
+  if (ok) return;
+  char text[2048] = {};
+  log(object, sizeof text, nullptr, text);
+  destroy(object);
+  throw structure::IoError("viewer: " + what + ": " + text);
+}
+
 GLuint compileShader(GLenum type, const char* source) {
   const GLuint shader = glCreateShader(type);
   glShaderSource(shader, 1, &source, nullptr);
   glCompileShader(shader);
-  GLint ok = 0;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[2048] = {};
-    glGetShaderInfoLog(shader, sizeof log, nullptr, log);
-    glDeleteShader(shader);
-    throw structure::IoError(std::string("viewer: a shader does not compile: ") + log);
-  }
+  requireStatus(shader, GL_COMPILE_STATUS, glGetShaderiv, glGetShaderInfoLog, glDeleteShader,
+                "a shader does not compile");
   return shader;
 }
 
@@ -113,14 +120,8 @@ GLuint linkProgram(const char* vertex, const char* fragment) {
   glLinkProgram(program);
   glDeleteShader(vs);
   glDeleteShader(fs);
-  GLint ok = 0;
-  glGetProgramiv(program, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    char log[2048] = {};
-    glGetProgramInfoLog(program, sizeof log, nullptr, log);
-    glDeleteProgram(program);
-    throw structure::IoError(std::string("viewer: the shaders do not link: ") + log);
-  }
+  requireStatus(program, GL_LINK_STATUS, glGetProgramiv, glGetProgramInfoLog, glDeleteProgram,
+                "the shaders do not link");
   return program;
 }
 
