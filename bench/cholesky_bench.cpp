@@ -18,11 +18,11 @@
 #include <string>
 #include <vector>
 
-#include "io/load_mesh.h"
-#include "structure/cotan_laplacian.h"
-#include "structure/index_map.h"
-#include "structure/sparse_cholesky.h"
-#include "structure/subdivide.h"
+#include "mspline/io/load_mesh.h"
+#include "mspline/structure/mesh/cotan_laplacian.h"
+#include "mspline/structure/core/index_map.h"
+#include "mspline/structure/core/sparse_cholesky.h"
+#include "mspline/structure/mesh/subdivide.h"
 
 using namespace mspline;
 using structure::CholeskyBackend;

@@ -1,6 +1,6 @@
 // Benchmark: `mspline fit` (issue 7) on scans of about 10k to 1M+ vertices, to give the fitting
 // time per scan vertex and how it grows with the scan. The scans are a real closed scan subdivided
-// 1-to-4 (structure/subdivide.h) to at least 90% of each size asked; sizes below the scan come from
+// 1-to-4 (structure/mesh/subdivide.h) to at least 90% of each size asked; sizes below the scan come from
 // a smaller real scan subdivided the same way.
 // Every size runs the real command as a child process (`mspline fit SCAN -o MODEL --kind KIND
 // --tolerance 1e-3 --max-control 8000 --json`) so the figures are what a user sees: its JSON
@@ -27,9 +27,9 @@
 #include <utility>
 #include <vector>
 
-#include "io/load_mesh.h"
-#include "io/write_mesh.h"
-#include "structure/subdivide.h"
+#include "mspline/io/load_mesh.h"
+#include "mspline/io/write_mesh.h"
+#include "mspline/structure/mesh/subdivide.h"
 
 namespace fs = std::filesystem;
 using namespace mspline;

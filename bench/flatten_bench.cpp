@@ -15,17 +15,17 @@
 #include <string>
 #include <vector>
 
-#include "io/load_mesh.h"
-#include "structure/affine_atlas.h"
-#include "structure/cone_placement.h"
-#include "structure/cotan_laplacian.h"
-#include "structure/flat_layout.h"
-#include "structure/index_map.h"
-#include "structure/intrinsic_overlay.h"
-#include "structure/ricci_flips.h"
-#include "structure/ricci_newton.h"
-#include "structure/sparse_cholesky.h"
-#include "structure/subdivide.h"
+#include "mspline/io/load_mesh.h"
+#include "mspline/structure/atlas/affine_atlas.h"
+#include "mspline/structure/ricci/cone_placement.h"
+#include "mspline/structure/mesh/cotan_laplacian.h"
+#include "mspline/structure/layout/flat_layout.h"
+#include "mspline/structure/core/index_map.h"
+#include "mspline/structure/intrinsic/intrinsic_overlay.h"
+#include "mspline/structure/intrinsic/ricci_flips.h"
+#include "mspline/structure/ricci/ricci_newton.h"
+#include "mspline/structure/core/sparse_cholesky.h"
+#include "mspline/structure/mesh/subdivide.h"
 
 using namespace mspline;
 using Clock = std::chrono::steady_clock;

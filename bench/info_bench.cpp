@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "io/load_mesh.h"
-#include "io/write_mesh.h"
-#include "structure/subdivide.h"
+#include "mspline/io/load_mesh.h"
+#include "mspline/io/write_mesh.h"
+#include "mspline/structure/mesh/subdivide.h"
 
 namespace fs = std::filesystem;
 using namespace mspline;

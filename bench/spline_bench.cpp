@@ -1,7 +1,7 @@
 // Benchmark: limit-surface evaluators, each timed on random surface points of its own net or
 // spline: (a) a closed regular 256 x 256 torus quad net, (b) a real triangle mesh split into quads
 // (each triangle -> 3 quads; extraordinary vertices everywhere), (c) a cubic manifold triangular
-// B-spline (DMS spline, spline/tri_bspline.h) with N control points on the mesh, against
+// B-spline (DMS spline, spline/tribspline/tri_bspline.h) with N control points on the mesh, against
 // OpenSubdiv on a regular torus net and on an irregular net, both with about N control points.
 // For every evaluator: setup time, peak and retained memory of the setup, and points per second of
 // position + first derivatives at the sample points (serial). The first evaluator of a case
@@ -39,12 +39,12 @@
 #include <string>
 #include <vector>
 
-#include "io/load_mesh.h"
-#include "io/spline_model_file.h"
-#include "spline/catmull_clark_limit.h"
-#include "spline/tri_bspline.h"
-#include "spline/triangle_quad_split.h"
-#include "structure/vertex_scaling_energy.h"
+#include "mspline/io/load_mesh.h"
+#include "mspline/io/spline_model_file.h"
+#include "mspline/spline/subd/catmull_clark_limit.h"
+#include "mspline/spline/tribspline/tri_bspline.h"
+#include "mspline/spline/subd/triangle_quad_split.h"
+#include "mspline/structure/ricci/vertex_scaling_energy.h"
 
 using namespace mspline;
 using Clock = std::chrono::steady_clock;

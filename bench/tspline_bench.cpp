@@ -1,6 +1,6 @@
-// Benchmark: cubic T-spline evaluation by Bezier extraction (spline/tspline_bezier.h) against
-// OpenSubdiv's Catmull-Clark limit (spline/catmull_clark_limit.h, Far, double precision) on the
-// same control net, by spline/tspline_osd.h: (a) a periodic N x M grid of unit cells with control
+// Benchmark: cubic T-spline evaluation by Bezier extraction (spline/tspline/tspline_bezier.h) against
+// OpenSubdiv's Catmull-Clark limit (spline/subd/catmull_clark_limit.h, Far, double precision) on the
+// same control net, by spline/subd/tspline_osd.h: (a) a periodic N x M grid of unit cells with control
 // points on a torus (radii 1 and 0.4), every face regular; (b) a planar N x M grid with random
 // heights, compared on its inner faces (OpenSubdiv under BoundaryRule::None has no surface at the
 // boundary). 1e6 random points (sample k in face k mod F at uniform (u, v)), position + first
@@ -20,10 +20,10 @@
 #include <string>
 #include <vector>
 
-#include "io/spline_model_file.h"
-#include "spline/tmesh.h"
-#include "spline/tspline.h"
-#include "spline/tspline_osd.h"
+#include "mspline/io/spline_model_file.h"
+#include "mspline/spline/tspline/tmesh.h"
+#include "mspline/spline/tspline/tspline.h"
+#include "mspline/spline/subd/tspline_osd.h"
 
 using namespace mspline;
 using Clock = std::chrono::steady_clock;

@@ -20,8 +20,8 @@
 #include <string>
 #include <vector>
 
-#include "io/spline_model_file.h"
-#include "viewer/edit_session.h"
+#include "mspline/io/spline_model_file.h"
+#include "mspline/viewer/edit_session.h"
 
 using namespace mspline;
 using Clock = std::chrono::steady_clock;

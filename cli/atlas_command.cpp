@@ -4,10 +4,10 @@
 
 #include "cli/command.h"
 #include "cli/flatten_pipeline.h"
-#include "io/atlas_file.h"
-#include "io/load_mesh.h"
-#include "structure/affine_atlas.h"
-#include "structure/errors.h"
+#include "mspline/io/atlas_file.h"
+#include "mspline/io/load_mesh.h"
+#include "mspline/structure/atlas/affine_atlas.h"
+#include "mspline/structure/core/errors.h"
 
 namespace mspline::cli {
 

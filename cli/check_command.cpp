@@ -8,10 +8,10 @@
 
 #include "cli/command.h"
 #include "cli/flatten_pipeline.h"
-#include "io/spline_model_file.h"
-#include "spline/tri_bspline.h"
-#include "spline/tspline_check.h"
-#include "structure/errors.h"
+#include "mspline/io/spline_model_file.h"
+#include "mspline/spline/tribspline/tri_bspline.h"
+#include "mspline/spline/tspline/tspline_check.h"
+#include "mspline/structure/core/errors.h"
 
 namespace mspline::cli {
 

@@ -1,12 +1,12 @@
 // mspline compare-osd: a T-spline model against OpenSubdiv's Catmull-Clark limit of its control
-// net (spline/tspline_osd.h). It reports; it does not judge.
+// net (spline/subd/tspline_osd.h). It reports; it does not judge.
 #include <iostream>
 
 #include "cli/command.h"
 #include "cli/flatten_pipeline.h"
-#include "io/spline_model_file.h"
-#include "spline/tspline_osd.h"
-#include "structure/errors.h"
+#include "mspline/io/spline_model_file.h"
+#include "mspline/spline/subd/tspline_osd.h"
+#include "mspline/structure/core/errors.h"
 
 namespace mspline::cli {
 

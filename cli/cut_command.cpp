@@ -4,10 +4,10 @@
 
 #include "cli/command.h"
 #include "cli/mesh_report.h"
-#include "io/load_mesh.h"
-#include "io/read_mesh.h"
-#include "io/write_mesh.h"
-#include "structure/cut_to_disk.h"
+#include "mspline/io/load_mesh.h"
+#include "mspline/io/read_mesh.h"
+#include "mspline/io/write_mesh.h"
+#include "mspline/structure/topology/cut_to_disk.h"
 
 namespace mspline::cli {
 

@@ -9,16 +9,16 @@
 
 #include "cli/command.h"
 #include "cli/flatten_pipeline.h"
-#include "io/error_map.h"
-#include "io/read_mesh.h"
-#include "io/shaded_picture.h"
-#include "io/spline_model_file.h"
-#include "io/write_mesh.h"
-#include "spline/filled_faces.h"
-#include "spline/model_surface.h"
-#include "spline/spline_domain.h"
-#include "structure/closest_point.h"
-#include "structure/errors.h"
+#include "mspline/io/error_map.h"
+#include "mspline/io/read_mesh.h"
+#include "mspline/io/shaded_picture.h"
+#include "mspline/io/spline_model_file.h"
+#include "mspline/io/write_mesh.h"
+#include "mspline/spline/model/filled_faces.h"
+#include "mspline/spline/model/model_surface.h"
+#include "mspline/spline/tribspline/spline_domain.h"
+#include "mspline/structure/mesh/closest_point.h"
+#include "mspline/structure/core/errors.h"
 
 namespace mspline::cli {
 

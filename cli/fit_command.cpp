@@ -1,6 +1,6 @@
 // mspline fit: the main job. A spline surface fitted to a scan: the flat structure and the space
 // as `spline` builds them, then least squares with fairing, parameter correction and adaptive
-// refinement (spline/surface_fit.h) until the RMS distance is within the tolerance or the control
+// refinement (spline/fitting/surface_fit.h) until the RMS distance is within the tolerance or the control
 // point budget is spent; the errors are measured both ways.
 #include <unistd.h>
 #include <algorithm>
@@ -13,22 +13,23 @@
 #include "cli/command.h"
 #include "cli/flatten_pipeline.h"
 #include "cli/spline_setup.h"
-#include "io/load_mesh.h"
-#include "io/spline_model_file.h"
-#include "spline/filled_faces.h"
-#include "spline/subd_fit_space.h"
-#include "spline/surface_fit.h"
-#include "spline/tessellate.h"
-#include "spline/tri_bspline.h"
-#include "spline/tri_bspline_fit_space.h"
-#include "spline/tspline.h"
-#include "spline/tspline_adaptive_fit.h"
-#include "spline/tspline_fit_space.h"
-#include "spline/tspline_tessellate.h"
-#include "structure/cap_holes.h"
-#include "structure/closest_point.h"
-#include "structure/errors.h"
-#include "structure/topology.h"
+#include "mspline/io/load_mesh.h"
+#include "mspline/io/spline_model_file.h"
+#include "mspline/spline/model/filled_faces.h"
+#include "mspline/spline/subd/subd_fit_space.h"
+#include "mspline/spline/subd/subd_tessellate.h"
+#include "mspline/spline/fitting/surface_fit.h"
+#include "mspline/spline/tribspline/tessellate.h"
+#include "mspline/spline/tribspline/tri_bspline.h"
+#include "mspline/spline/tribspline/tri_bspline_fit_space.h"
+#include "mspline/spline/tspline/tspline.h"
+#include "mspline/spline/tspline/tspline_adaptive_fit.h"
+#include "mspline/spline/tspline/tspline_fit_space.h"
+#include "mspline/spline/tspline/tspline_tessellate.h"
+#include "mspline/structure/mesh/cap_holes.h"
+#include "mspline/structure/mesh/closest_point.h"
+#include "mspline/structure/core/errors.h"
+#include "mspline/structure/topology/topology.h"
 
 namespace mspline::cli {
 

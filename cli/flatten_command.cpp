@@ -4,13 +4,13 @@
 
 #include "cli/command.h"
 #include "cli/flatten_pipeline.h"
-#include "io/atomic_file.h"
-#include "io/load_mesh.h"
-#include "io/read_mesh.h"
-#include "io/write_mesh.h"
-#include "structure/errors.h"
-#include "structure/layout_svg.h"
-#include "structure/polygon_soup.h"
+#include "mspline/io/atomic_file.h"
+#include "mspline/io/load_mesh.h"
+#include "mspline/io/read_mesh.h"
+#include "mspline/io/write_mesh.h"
+#include "mspline/structure/core/errors.h"
+#include "mspline/structure/picture/layout_svg.h"
+#include "mspline/structure/mesh/polygon_soup.h"
 
 namespace mspline::cli {
 

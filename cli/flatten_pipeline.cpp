@@ -4,15 +4,15 @@
 #include <charconv>
 #include <cmath>
 
-#include "structure/circle_packing_energy.h"
-#include "structure/cone_file.h"
-#include "structure/cone_placement.h"
-#include "structure/errors.h"
-#include "structure/holonomy_quantization.h"
-#include "structure/intrinsic_flattening.h"
-#include "structure/ricci_flips.h"
-#include "structure/topology.h"
-#include "structure/vertex_scaling_energy.h"
+#include "mspline/structure/ricci/circle_packing_energy.h"
+#include "mspline/structure/ricci/cone_file.h"
+#include "mspline/structure/ricci/cone_placement.h"
+#include "mspline/structure/core/errors.h"
+#include "mspline/structure/ricci/holonomy_quantization.h"
+#include "mspline/structure/intrinsic/intrinsic_flattening.h"
+#include "mspline/structure/intrinsic/ricci_flips.h"
+#include "mspline/structure/topology/topology.h"
+#include "mspline/structure/ricci/vertex_scaling_energy.h"
 
 namespace mspline::cli {
 

@@ -9,11 +9,11 @@
 #include <vector>
 
 #include "cli/command.h"
-#include "structure/curvature_target.h"
-#include "structure/flat_layout.h"
-#include "structure/intrinsic_overlay.h"
-#include "structure/ricci_newton.h"
-#include "structure/tri_mesh.h"
+#include "mspline/structure/ricci/curvature_target.h"
+#include "mspline/structure/layout/flat_layout.h"
+#include "mspline/structure/intrinsic/intrinsic_overlay.h"
+#include "mspline/structure/ricci/ricci_newton.h"
+#include "mspline/structure/mesh/tri_mesh.h"
 
 namespace mspline::cli {
 

@@ -4,9 +4,9 @@
 
 #include "cli/command.h"
 #include "cli/mesh_report.h"
-#include "io/load_mesh.h"
-#include "structure/mesh_statistics.h"
-#include "structure/topology.h"
+#include "mspline/io/load_mesh.h"
+#include "mspline/structure/mesh/mesh_statistics.h"
+#include "mspline/structure/topology/topology.h"
 
 namespace mspline::cli {
 

@@ -3,7 +3,7 @@
 #include <new>
 
 #include "cli/command.h"
-#include "structure/errors.h"
+#include "mspline/structure/core/errors.h"
 
 namespace mspline::cli {
 

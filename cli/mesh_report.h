@@ -3,8 +3,8 @@
 #include <vector>
 
 #include "cli/command.h"
-#include "structure/repair.h"
-#include "structure/validate.h"
+#include "mspline/structure/mesh/repair.h"
+#include "mspline/structure/mesh/validate.h"
 
 namespace mspline::cli {
 

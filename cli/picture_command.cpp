@@ -7,13 +7,13 @@
 
 #include "cli/command.h"
 #include "cli/flatten_pipeline.h"
-#include "io/atlas_file.h"
-#include "io/load_mesh.h"
-#include "io/raster_image.h"
-#include "io/surface_pictures.h"
-#include "structure/affine_atlas.h"
-#include "structure/errors.h"
-#include "structure/topology.h"
+#include "mspline/io/atlas_file.h"
+#include "mspline/io/load_mesh.h"
+#include "mspline/io/raster_image.h"
+#include "mspline/io/surface_pictures.h"
+#include "mspline/structure/atlas/affine_atlas.h"
+#include "mspline/structure/core/errors.h"
+#include "mspline/structure/topology/topology.h"
 
 namespace mspline::cli {
 

@@ -3,10 +3,10 @@
 
 #include "cli/command.h"
 #include "cli/mesh_report.h"
-#include "io/load_mesh.h"
-#include "io/read_mesh.h"
-#include "io/write_mesh.h"
-#include "structure/errors.h"
+#include "mspline/io/load_mesh.h"
+#include "mspline/io/read_mesh.h"
+#include "mspline/io/write_mesh.h"
+#include "mspline/structure/core/errors.h"
 
 namespace mspline::cli {
 

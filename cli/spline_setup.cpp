@@ -4,11 +4,11 @@
 #include <cmath>
 #include <optional>
 
-#include "spline/layout_tmesh.h"
-#include "spline/torus_tmesh.h"
-#include "spline/tri_bspline.h"
-#include "structure/coarse_triangulation.h"
-#include "structure/motorcycle_layout.h"
+#include "mspline/spline/tspline/layout_tmesh.h"
+#include "mspline/spline/tspline/torus_tmesh.h"
+#include "mspline/spline/tribspline/tri_bspline.h"
+#include "mspline/structure/layout/coarse_triangulation.h"
+#include "mspline/structure/layout/motorcycle_layout.h"
 
 namespace mspline::cli {
 

@@ -11,7 +11,7 @@
 
 #include "cli/command.h"
 #include "cli/flatten_pipeline.h"
-#include "spline/spline_model.h"
+#include "mspline/spline/core/spline_model.h"
 
 namespace mspline::cli {
 

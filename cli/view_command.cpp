@@ -4,9 +4,9 @@
 #include <sstream>
 
 #include "cli/command.h"
-#include "structure/errors.h"
+#include "mspline/structure/core/errors.h"
 #ifdef MSPLINE_HAVE_VIEWER
-#include "viewer/viewer_app.h"
+#include "mspline/viewer/viewer_app.h"
 #endif
 
 namespace mspline::cli {

@@ -1,12 +1,12 @@
-#include "io/atlas_file.h"
+#include "mspline/io/atlas_file.h"
 
 #include <fstream>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
-#include "io/atomic_file.h"
-#include "structure/errors.h"
+#include "mspline/io/atomic_file.h"
+#include "mspline/structure/core/errors.h"
 
 namespace mspline::io {
 

@@ -10,13 +10,13 @@
 //                "positions": [[x, y], ...]}, ...],
 //    "transitions": [[from, to, angle, tx, ty], ...]}
 //
-// Charts and transitions are as in structure/affine_atlas.h (a transition maps chart `from` to
+// Charts and transitions are as in structure/atlas/affine_atlas.h (a transition maps chart `from` to
 // chart `to` by x -> R(angle) x + (tx, ty)); numbers are written with 17 significant digits, so
 // reading gives back the same doubles.
 #include <string>
 
-#include "structure/affine_atlas.h"
-#include "structure/tri_mesh.h"
+#include "mspline/structure/atlas/affine_atlas.h"
+#include "mspline/structure/mesh/tri_mesh.h"
 
 namespace mspline::io {
 

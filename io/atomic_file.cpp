@@ -1,4 +1,4 @@
-#include "io/atomic_file.h"
+#include "mspline/io/atomic_file.h"
 
 #include <unistd.h>
 
@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "structure/errors.h"
+#include "mspline/structure/core/errors.h"
 
 namespace mspline::io {
 

@@ -1,9 +1,9 @@
-#include "io/error_map.h"
+#include "mspline/io/error_map.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "structure/errors.h"
+#include "mspline/structure/core/errors.h"
 
 namespace mspline::io {
 

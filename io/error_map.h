@@ -8,7 +8,7 @@
 
 #include <Eigen/Core>
 
-#include "structure/closest_point.h"
+#include "mspline/structure/mesh/closest_point.h"
 
 namespace mspline::io {
 

@@ -1,10 +1,10 @@
-#include "io/load_mesh.h"
+#include "mspline/io/load_mesh.h"
 
 #include <algorithm>
 #include <array>
 
-#include "io/read_mesh.h"
-#include "structure/errors.h"
+#include "mspline/io/read_mesh.h"
+#include "mspline/structure/core/errors.h"
 
 namespace mspline::io {
 

@@ -4,10 +4,10 @@
 #include <string>
 #include <vector>
 
-#include "structure/polygon_soup.h"
-#include "structure/repair.h"
-#include "structure/tri_mesh.h"
-#include "structure/validate.h"
+#include "mspline/structure/mesh/polygon_soup.h"
+#include "mspline/structure/mesh/repair.h"
+#include "mspline/structure/mesh/tri_mesh.h"
+#include "mspline/structure/mesh/validate.h"
 
 namespace mspline::io {
 

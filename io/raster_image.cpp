@@ -1,10 +1,10 @@
-#include "io/raster_image.h"
+#include "mspline/io/raster_image.h"
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #include <stb/stb_image_write.h>
 
-#include "io/atomic_file.h"
-#include "structure/errors.h"
+#include "mspline/io/atomic_file.h"
+#include "mspline/structure/core/errors.h"
 
 namespace mspline::io {
 

@@ -1,16 +1,16 @@
-#include "io/read_mesh.h"
+#include "mspline/io/read_mesh.h"
 
 #include <cctype>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
 
-#include "io/obj_format.h"
-#include "io/off_format.h"
-#include "io/ply_format.h"
-#include "io/stl_format.h"
-#include "io/whole_file.h"
-#include "structure/errors.h"
+#include "mspline/io/detail/obj_format.h"
+#include "mspline/io/detail/off_format.h"
+#include "mspline/io/detail/ply_format.h"
+#include "mspline/io/detail/stl_format.h"
+#include "mspline/io/detail/whole_file.h"
+#include "mspline/structure/core/errors.h"
 
 namespace mspline::io {
 

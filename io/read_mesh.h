@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include "structure/polygon_soup.h"
+#include "mspline/structure/mesh/polygon_soup.h"
 
 namespace mspline::io {
 

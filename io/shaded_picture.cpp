@@ -1,4 +1,4 @@
-#include "io/shaded_picture.h"
+#include "mspline/io/shaded_picture.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 
 #include <Eigen/Geometry>
 
-#include "structure/errors.h"
+#include "mspline/structure/core/errors.h"
 
 namespace mspline::io {
 

@@ -7,7 +7,7 @@
 
 #include <Eigen/Core>
 
-#include "io/raster_image.h"
+#include "mspline/io/raster_image.h"
 
 namespace mspline::io {
 

@@ -1,4 +1,4 @@
-#include "io/spline_model_file.h"
+#include "mspline/io/spline_model_file.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -9,12 +9,12 @@
 #include <string_view>
 #include <utility>
 
-#include "io/atomic_file.h"
-#include "io/byte_order.h"
-#include "io/output_buffer.h"
-#include "io/whole_file.h"
-#include "spline/tspline.h"
-#include "structure/errors.h"
+#include "mspline/io/atomic_file.h"
+#include "mspline/io/detail/byte_order.h"
+#include "mspline/io/detail/output_buffer.h"
+#include "mspline/io/detail/whole_file.h"
+#include "mspline/spline/tspline/tspline.h"
+#include "mspline/structure/core/errors.h"
 
 namespace mspline::io {
 

@@ -1,5 +1,5 @@
 #pragma once
-// The spline model file (.msp): a spline::SplineModel (spline/spline_model.h) in binary, so that
+// The spline model file (.msp): a spline::SplineModel (spline/core/spline_model.h) in binary, so that
 // a fitted spline can be saved and loaded without recomputing anything. Doubles are stored bit
 // for bit, so save -> load -> save gives the same bytes and a loaded spline evaluates to the
 // same bits.
@@ -17,7 +17,7 @@
 //     surface vertices         u32 V; V times f64 x, y, z
 //     surface faces            u32 F; F times i32 a, b, c (surface vertices, counter-clockwise)
 //     filled surface faces     (version 3) u32 count (0, or F); count times u8: 1 when the
-//                              surface face fills a hole of the scan (structure/cap_holes.h)
+//                              surface face fills a hole of the scan (structure/mesh/cap_holes.h)
 //   kind 1 part: triangular B-spline
 //     surface vertex locations V times i32 domain face, f64 b0, b1, b2 (barycentric)
 //     domain vertices          u32 N; N times u8 cone (0 or 1), i32 source surface vertex
@@ -27,7 +27,7 @@
 //     knots                    M faces times 3 corners times n + 1 points f64 x, y
 //     control points           u32 rows (M (n + 1)(n + 2) / 2), u32 columns, then
 //                              rows times columns f64, row-major
-//   kind 2 part: cubic T-spline (spline/tspline.h; the degree is 3 and not stored)
+//   kind 2 part: cubic T-spline (spline/tspline/tspline.h; the degree is 3 and not stored)
 //     T-mesh                   u32 vertex count, u32 face count; per face u32 k (at least 4),
 //                              then k times i32 vertex, f64 x, y: its boundary counter-clockwise
 //                              from the corner (0, 0), positions in the face's frame (what
@@ -40,7 +40,7 @@
 //                              row-major; rows = W = the blending functions of
 //                              spline::TSplineSpace(T-mesh), one per row in the order of its
 //                              anchors
-//   kind 3 part: Catmull-Clark subdivision surface (spline/subd_fit_space.h)
+//   kind 3 part: Catmull-Clark subdivision surface (spline/subd/subd_fit_space.h)
 //     T-mesh, surface vertex T-mesh points
 //                              as for kind 2; every face has exactly 4 boundary vertices (no
 //                              T-junctions: the T-mesh is the control net)
@@ -68,7 +68,7 @@
 // never silently drops data.
 #include <string>
 
-#include "spline/spline_model.h"
+#include "mspline/spline/core/spline_model.h"
 
 namespace mspline::io {
 

@@ -1,4 +1,4 @@
-#include "io/surface_pictures.h"
+#include "mspline/io/surface_pictures.h"
 
 #include <algorithm>
 #include <array>
@@ -10,7 +10,7 @@
 
 #include <Eigen/Geometry>
 
-#include "structure/errors.h"
+#include "mspline/structure/core/errors.h"
 
 namespace mspline::io {
 

@@ -9,9 +9,9 @@
 // squares, and lines u = const.
 #include <vector>
 
-#include "io/raster_image.h"
-#include "structure/flat_layout.h"
-#include "structure/tri_mesh.h"
+#include "mspline/io/raster_image.h"
+#include "mspline/structure/layout/flat_layout.h"
+#include "mspline/structure/mesh/tri_mesh.h"
 
 namespace mspline::io {
 

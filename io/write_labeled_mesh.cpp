@@ -1,12 +1,12 @@
-#include "io/write_labeled_mesh.h"
+#include "mspline/io/write_labeled_mesh.h"
 
 #include <algorithm>
 #include <numeric>
 
-#include "io/atomic_file.h"
-#include "io/output_buffer.h"
-#include "io/read_mesh.h"
-#include "structure/errors.h"
+#include "mspline/io/atomic_file.h"
+#include "mspline/io/detail/output_buffer.h"
+#include "mspline/io/read_mesh.h"
+#include "mspline/structure/core/errors.h"
 
 namespace mspline::io {
 

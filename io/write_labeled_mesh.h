@@ -5,7 +5,7 @@
 
 #include <Eigen/Core>
 
-#include "structure/tri_mesh.h"
+#include "mspline/structure/mesh/tri_mesh.h"
 
 namespace mspline::io {
 

@@ -1,12 +1,12 @@
-#include "io/write_mesh.h"
+#include "mspline/io/write_mesh.h"
 
-#include "io/atomic_file.h"
-#include "io/obj_format.h"
-#include "io/off_format.h"
-#include "io/ply_format.h"
-#include "io/read_mesh.h"
-#include "io/stl_format.h"
-#include "structure/errors.h"
+#include "mspline/io/atomic_file.h"
+#include "mspline/io/detail/obj_format.h"
+#include "mspline/io/detail/off_format.h"
+#include "mspline/io/detail/ply_format.h"
+#include "mspline/io/read_mesh.h"
+#include "mspline/io/detail/stl_format.h"
+#include "mspline/structure/core/errors.h"
 
 namespace mspline::io {
 

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "structure/polygon_soup.h"
-#include "structure/tri_mesh.h"
+#include "mspline/structure/mesh/polygon_soup.h"
+#include "mspline/structure/mesh/tri_mesh.h"
 
 namespace mspline::io {
 

@@ -1,4 +1,4 @@
-#include "viewer/controller.h"
+#include "mspline/viewer/controller.h"
 
 #include <algorithm>
 #include <cmath>

@@ -6,8 +6,8 @@
 
 #include <Eigen/Core>
 
-#include "viewer/camera.h"
-#include "viewer/edit_session.h"
+#include "mspline/viewer/camera.h"
+#include "mspline/viewer/edit_session.h"
 
 namespace mspline::viewer {
 

@@ -1,4 +1,4 @@
-#include "viewer/edit_script.h"
+#include "mspline/viewer/edit_script.h"
 
 #include <chrono>
 #include <fstream>
@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "structure/errors.h"
+#include "mspline/structure/core/errors.h"
 
 namespace mspline::viewer {
 

@@ -20,8 +20,8 @@
 
 #include <Eigen/Core>
 
-#include "viewer/controller.h"
-#include "viewer/edit_session.h"
+#include "mspline/viewer/controller.h"
+#include "mspline/viewer/edit_session.h"
 
 namespace mspline::viewer {
 

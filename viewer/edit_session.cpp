@@ -1,4 +1,4 @@
-#include "viewer/edit_session.h"
+#include "mspline/viewer/edit_session.h"
 
 #include <algorithm>
 #include <chrono>
@@ -12,9 +12,9 @@
 
 #include <Eigen/Geometry>
 
-#include "io/atomic_file.h"
-#include "io/spline_model_file.h"
-#include "structure/errors.h"
+#include "mspline/io/atomic_file.h"
+#include "mspline/io/spline_model_file.h"
+#include "mspline/structure/core/errors.h"
 
 namespace mspline::viewer {
 

@@ -1,4 +1,4 @@
-#include "viewer/renderer.h"
+#include "mspline/viewer/renderer.h"
 
 #include <algorithm>
 #include <string>
@@ -6,7 +6,7 @@
 #define GL_GLEXT_PROTOTYPES
 #include <GL/glcorearb.h>
 
-#include "structure/errors.h"
+#include "mspline/structure/core/errors.h"
 
 namespace mspline::viewer {
 

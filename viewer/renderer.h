@@ -10,8 +10,8 @@
 
 #include <Eigen/Core>
 
-#include "spline/model_surface.h"
-#include "viewer/camera.h"
+#include "mspline/spline/model/model_surface.h"
+#include "mspline/viewer/camera.h"
 
 namespace mspline::viewer {
 

@@ -1,4 +1,4 @@
-#include "viewer/viewer_app.h"
+#include "mspline/viewer/viewer_app.h"
 
 #include <algorithm>
 #include <chrono>
@@ -15,17 +15,17 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
-#include "io/error_map.h"
-#include "io/raster_image.h"
-#include "io/read_mesh.h"
-#include "io/spline_model_file.h"
-#include "io/write_mesh.h"
-#include "spline/tessellate.h"
-#include "structure/closest_point.h"
-#include "structure/errors.h"
-#include "viewer/controller.h"
-#include "viewer/edit_script.h"
-#include "viewer/edit_session.h"
+#include "mspline/io/error_map.h"
+#include "mspline/io/raster_image.h"
+#include "mspline/io/read_mesh.h"
+#include "mspline/io/spline_model_file.h"
+#include "mspline/io/write_mesh.h"
+#include "mspline/spline/tribspline/tessellate.h"
+#include "mspline/structure/mesh/closest_point.h"
+#include "mspline/structure/core/errors.h"
+#include "mspline/viewer/controller.h"
+#include "mspline/viewer/edit_script.h"
+#include "mspline/viewer/edit_session.h"
 
 namespace mspline::viewer {
 

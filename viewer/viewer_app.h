@@ -9,7 +9,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
-#include "viewer/renderer.h"
+#include "mspline/viewer/renderer.h"
 
 namespace mspline::viewer {
 

@@ -13,10 +13,10 @@
 #define STB_IMAGE_IMPLEMENTATION
 #include <stb/stb_image.h>
 
-#include "io/read_mesh.h"
-#include "io/spline_model_file.h"
-#include "spline/tspline.h"
-#include "structure/closest_point.h"
+#include "mspline/io/read_mesh.h"
+#include "mspline/io/spline_model_file.h"
+#include "mspline/spline/tspline/tspline.h"
+#include "mspline/structure/mesh/closest_point.h"
 #include "support/test_data.h"
 
 using mspline::test::realMeshPath;

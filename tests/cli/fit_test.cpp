@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
-#include "io/spline_model_file.h"
+#include "mspline/io/spline_model_file.h"
 #include "support/test_data.h"
 
 namespace fs = std::filesystem;

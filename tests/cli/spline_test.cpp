@@ -7,10 +7,10 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
-#include "io/load_mesh.h"
-#include "io/spline_model_file.h"
-#include "spline/tri_bspline.h"
-#include "structure/topology.h"
+#include "mspline/io/load_mesh.h"
+#include "mspline/io/spline_model_file.h"
+#include "mspline/spline/tribspline/tri_bspline.h"
+#include "mspline/structure/topology/topology.h"
 #include "support/test_data.h"
 
 namespace fs = std::filesystem;

@@ -6,10 +6,10 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "io/load_mesh.h"
-#include "io/spline_model_file.h"
-#include "spline/tspline.h"
-#include "structure/topology.h"
+#include "mspline/io/load_mesh.h"
+#include "mspline/io/spline_model_file.h"
+#include "mspline/spline/tspline/tspline.h"
+#include "mspline/structure/topology/topology.h"
 #include "support/test_data.h"
 #include "support/test_tmeshes.h"
 

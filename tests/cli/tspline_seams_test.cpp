@@ -6,8 +6,8 @@
 
 #include <array>
 
-#include "io/spline_model_file.h"
-#include "spline/tspline.h"
+#include "mspline/io/spline_model_file.h"
+#include "mspline/spline/tspline/tspline.h"
 #include "support/test_data.h"
 
 using namespace mspline;

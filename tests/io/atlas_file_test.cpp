@@ -4,11 +4,11 @@
 #include <sstream>
 #include <string>
 
-#include "io/atlas_file.h"
-#include "structure/affine_atlas.h"
-#include "structure/errors.h"
-#include "structure/flat_layout.h"
-#include "structure/ricci_newton.h"
+#include "mspline/io/atlas_file.h"
+#include "mspline/structure/atlas/affine_atlas.h"
+#include "mspline/structure/core/errors.h"
+#include "mspline/structure/layout/flat_layout.h"
+#include "mspline/structure/ricci/ricci_newton.h"
 #include "support/test_data.h"
 #include "support/test_meshes.h"
 

@@ -1,4 +1,4 @@
-#include "io/atomic_file.h"
+#include "mspline/io/atomic_file.h"
 
 #include <catch2/catch.hpp>
 #include <cerrno>
@@ -7,7 +7,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "structure/errors.h"
+#include "mspline/structure/core/errors.h"
 #include "support/test_data.h"
 
 namespace {

@@ -1,4 +1,4 @@
-#include "io/raster_image.h"
+#include "mspline/io/raster_image.h"
 
 #include <catch2/catch.hpp>
 #include <filesystem>
@@ -6,7 +6,7 @@
 #define STB_IMAGE_IMPLEMENTATION
 #include <stb/stb_image.h>
 
-#include "structure/errors.h"
+#include "mspline/structure/core/errors.h"
 #include "support/test_data.h"
 
 using mspline::io::RasterImage;

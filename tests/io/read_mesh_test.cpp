@@ -1,4 +1,4 @@
-#include "io/read_mesh.h"
+#include "mspline/io/read_mesh.h"
 
 #include <algorithm>
 #include <catch2/catch.hpp>
@@ -10,8 +10,8 @@
 #include <random>
 #include <sstream>
 
-#include "io/write_mesh.h"
-#include "structure/errors.h"
+#include "mspline/io/write_mesh.h"
+#include "mspline/structure/core/errors.h"
 #include "support/test_data.h"
 
 namespace {

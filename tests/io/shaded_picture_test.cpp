@@ -1,9 +1,9 @@
-#include "io/shaded_picture.h"
+#include "mspline/io/shaded_picture.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "structure/errors.h"
+#include "mspline/structure/core/errors.h"
 
 using namespace mspline;
 

@@ -1,7 +1,7 @@
 #include <catch2/catch.hpp>
 
-#include "structure/errors.h"
-#include "structure/polygon_soup.h"
+#include "mspline/structure/core/errors.h"
+#include "mspline/structure/mesh/polygon_soup.h"
 #include "support/test_meshes.h"
 
 namespace {

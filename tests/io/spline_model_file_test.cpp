@@ -1,4 +1,4 @@
-#include "io/spline_model_file.h"
+#include "mspline/io/spline_model_file.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -9,11 +9,11 @@
 #include <random>
 #include <string>
 
-#include "io/byte_order.h"
-#include "spline/dms_spline.h"
-#include "spline/subd_fit_space.h"
-#include "spline/tspline.h"
-#include "structure/errors.h"
+#include "mspline/io/detail/byte_order.h"
+#include "mspline/spline/tribspline/dms_spline.h"
+#include "mspline/spline/subd/subd_fit_space.h"
+#include "mspline/spline/tspline/tspline.h"
+#include "mspline/structure/core/errors.h"
 #include "support/test_data.h"
 #include "support/test_meshes.h"
 #include "support/test_tmeshes.h"

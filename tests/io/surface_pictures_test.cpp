@@ -1,4 +1,4 @@
-#include "io/surface_pictures.h"
+#include "mspline/io/surface_pictures.h"
 
 #include <algorithm>
 #include <catch2/catch.hpp>
@@ -6,11 +6,11 @@
 #include <map>
 #include <tuple>
 
-#include "structure/curvature_target.h"
-#include "structure/errors.h"
-#include "structure/flat_layout.h"
-#include "structure/ricci_newton.h"
-#include "structure/vertex_scaling_energy.h"
+#include "mspline/structure/ricci/curvature_target.h"
+#include "mspline/structure/core/errors.h"
+#include "mspline/structure/layout/flat_layout.h"
+#include "mspline/structure/ricci/ricci_newton.h"
+#include "mspline/structure/ricci/vertex_scaling_energy.h"
 #include "support/test_data.h"
 #include "support/test_meshes.h"
 

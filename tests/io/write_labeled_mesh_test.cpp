@@ -1,12 +1,12 @@
-#include "io/write_labeled_mesh.h"
+#include "mspline/io/write_labeled_mesh.h"
 
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
-#include "io/read_mesh.h"
-#include "structure/errors.h"
+#include "mspline/io/read_mesh.h"
+#include "mspline/structure/core/errors.h"
 #include "support/test_data.h"
 #include "support/test_meshes.h"
 

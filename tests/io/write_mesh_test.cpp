@@ -1,4 +1,4 @@
-#include "io/write_mesh.h"
+#include "mspline/io/write_mesh.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -8,8 +8,8 @@
 #include <limits>
 #include <sstream>
 
-#include "io/read_mesh.h"
-#include "structure/errors.h"
+#include "mspline/io/read_mesh.h"
+#include "mspline/structure/core/errors.h"
 #include "support/test_data.h"
 #include "support/test_meshes.h"
 

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <vector>
 
-#include "structure/errors.h"
-#include "structure/mesh_statistics.h"
+#include "mspline/structure/core/errors.h"
+#include "mspline/structure/mesh/mesh_statistics.h"
 #include "support/test_meshes.h"
 
 using mspline::structure::TriMesh;

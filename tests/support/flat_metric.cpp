@@ -2,8 +2,8 @@
 
 #include <catch2/catch.hpp>
 
-#include "structure/intrinsic_flattening.h"
-#include "structure/ricci_newton.h"
+#include "mspline/structure/intrinsic/intrinsic_flattening.h"
+#include "mspline/structure/ricci/ricci_newton.h"
 #include "support/test_meshes.h"
 
 namespace mspline::test {

@@ -5,8 +5,8 @@
 
 #include <Eigen/Core>
 
-#include "structure/curvature_target.h"
-#include "structure/tri_mesh.h"
+#include "mspline/structure/ricci/curvature_target.h"
+#include "mspline/structure/mesh/tri_mesh.h"
 
 namespace mspline::test {
 

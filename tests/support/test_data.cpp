@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "io/load_mesh.h"
+#include "mspline/io/load_mesh.h"
 
 namespace mspline::test {
 

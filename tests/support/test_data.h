@@ -3,7 +3,7 @@
 #include <nlohmann/json_fwd.hpp>
 #include <string>
 
-#include "structure/tri_mesh.h"
+#include "mspline/structure/mesh/tri_mesh.h"
 
 namespace mspline::test {
 

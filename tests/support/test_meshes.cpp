@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "structure/errors.h"
-#include "structure/subdivide.h"
+#include "mspline/structure/core/errors.h"
+#include "mspline/structure/mesh/subdivide.h"
 
 namespace mspline::test {
 

@@ -3,10 +3,10 @@
 // whose topology is stated in its comment; `resolution` scales the number of faces.
 #include <vector>
 
-#include "spline/spline_domain.h"
-#include "structure/curvature_target.h"
-#include "structure/polygon_soup.h"
-#include "structure/tri_mesh.h"
+#include "mspline/spline/tribspline/spline_domain.h"
+#include "mspline/structure/ricci/curvature_target.h"
+#include "mspline/structure/mesh/polygon_soup.h"
+#include "mspline/structure/mesh/tri_mesh.h"
 
 namespace mspline::test {
 

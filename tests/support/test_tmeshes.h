@@ -6,8 +6,8 @@
 
 #include <Eigen/Core>
 
-#include "spline/tmesh.h"
-#include "spline/tspline.h"
+#include "mspline/spline/tspline/tmesh.h"
+#include "mspline/spline/tspline/tspline.h"
 
 namespace mspline::test {
 

@@ -1,4 +1,4 @@
-#include "viewer/camera.h"
+#include "mspline/viewer/camera.h"
 
 #include <catch2/catch.hpp>
 

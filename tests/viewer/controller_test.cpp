@@ -1,8 +1,8 @@
-#include "viewer/controller.h"
+#include "mspline/viewer/controller.h"
 
 #include <catch2/catch.hpp>
 
-#include "io/spline_model_file.h"
+#include "mspline/io/spline_model_file.h"
 #include "support/test_data.h"
 
 using namespace mspline;

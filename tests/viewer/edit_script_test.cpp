@@ -1,9 +1,9 @@
-#include "viewer/edit_script.h"
+#include "mspline/viewer/edit_script.h"
 
 #include <catch2/catch.hpp>
 #include <fstream>
 
-#include "structure/errors.h"
+#include "mspline/structure/core/errors.h"
 #include "support/test_data.h"
 
 using namespace mspline;

@@ -1,4 +1,4 @@
-#include "viewer/edit_session.h"
+#include "mspline/viewer/edit_session.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -6,9 +6,9 @@
 #include <filesystem>
 #include <random>
 
-#include "io/spline_model_file.h"
-#include "spline/model_surface.h"
-#include "structure/errors.h"
+#include "mspline/io/spline_model_file.h"
+#include "mspline/spline/model/model_surface.h"
+#include "mspline/structure/core/errors.h"
 #include "support/test_data.h"
 
 using namespace mspline;

@@ -16,11 +16,11 @@
 #define STB_IMAGE_IMPLEMENTATION
 #include <stb/stb_image.h>
 
-#include "io/read_mesh.h"
-#include "io/spline_model_file.h"
-#include "spline/model_surface.h"
+#include "mspline/io/read_mesh.h"
+#include "mspline/io/spline_model_file.h"
+#include "mspline/spline/model/model_surface.h"
 #include "support/test_data.h"
-#include "viewer/controller.h"
+#include "mspline/viewer/controller.h"
 
 using namespace mspline;
 

@@ -1,0 +1,91 @@
+#pragma once
+// Fitting a spline surface to scan points (in the style of G+Smo's gsFitting): linear least
+// squares for the control points with a thin-plate fairing term, then parameter correction (each
+// sample moved to the parameters of its closest point on the current surface, by Newton's method
+// on the parameters, across faces and charts) and a refit, a few rounds. Works on any FitSpace
+// (fit_space.h); adaptive refinement is the caller's (tspline_adaptive_fit.h and the fit command).
+//
+// The solve: (D^T W D + lambda K + epsilon I) C = D^T W P, D the samples' basis values (one row
+// per sample), W their weights, K the thin-plate energy integral of |S_ss|^2 + 2 |S_st|^2 +
+// |S_tt|^2 over the parameter domain (quadrature), lambda = smoothing * trace(D^T D) / trace(K),
+// and a light pull (epsilon = 1e-7 of the mean diagonal of D^T D) towards the quasi-interpolant G
+// on the right side (epsilon G) for functions that neither samples nor the energy determine.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "mspline/spline/fitting/fit_space.h"
+
+namespace mspline::spline {
+
+struct SurfaceFitOptions {
+  /// Weight of the fairing term relative to the data term (see above). Negative: chosen
+  /// automatically, the candidate 10^-1 .. 10^-7 whose fit on 7/8 of the samples is closest to
+  /// the other 1/8 (hold-out validation), again after every parameter correction.
+  double smoothing = -1.0;
+  /// Rounds of parameter correction (project the samples, refit).
+  int correctionRounds = 3;
+  /// Newton steps per sample and projection.
+  int projectionSteps = 12;
+  /// Per sample, the weight of its squared distance (empty: all 1); e.g. small weights for
+  /// points of fill patches that only keep the surface near them where there is no scan.
+  Eigen::VectorXd sampleWeights;
+};
+
+struct SurfaceFitResult {
+  /// One row per function of the space, three columns.
+  Eigen::MatrixXd controlPoints;
+  /// The samples' parameters after the last projection (the closest points' parameters).
+  std::vector<FitParameter> parameters;
+  /// Per sample: distance from the scan point to the surface at its parameters after the last
+  /// projection; NaN for samples where the surface is undefined.
+  Eigen::VectorXd distances;
+  /// Root mean square and maximum of the finite distances (absolute, the targets' units), with the
+  /// sample weights: sqrt(sum w d^2 / sum w) and max sqrt(w) d.
+  double rmsError = 0.0;
+  double maxError = 0.0;
+  /// The relative smoothing weight of the last solve and its absolute lambda.
+  double smoothing = 0.0;
+  double lambda = 0.0;
+  /// Parameter correction rounds done.
+  int rounds = 0;
+  /// RMS distance after the first solve (before parameter correction), at the input parameters.
+  double initialRmsError = 0.0;
+  /// Samples left out because the surface is undefined at their parameters (a cone point).
+  int samplesOutside = 0;
+};
+
+/// Reports a stage and a fraction done in [0, 1].
+using FitProgress = std::function<void(const std::string& stage, double fraction)>;
+
+/// Fits the surface of `space` to `targets` (one row per sample, three columns) starting from the
+/// samples' `parameters`. Throws InputError when the counts differ or no sample has a defined
+/// surface, SolverError when the system cannot be factored.
+SurfaceFitResult fitSurface(const FitSpace& space, const std::vector<FitParameter>& parameters,
+                            const Eigen::MatrixX3d& targets, const SurfaceFitOptions& options = {},
+                            const FitProgress& progress = {});
+
+/// The surface point of `control` at `p` (NaN where the surface is undefined).
+Eigen::Vector3d evaluateFitSurface(const FitSpace& space, const Eigen::MatrixXd& control,
+                                   const FitParameter& p);
+
+/// A closest point found by Newton's method on the parameters from a start.
+struct SurfaceProjection {
+  FitParameter parameter;
+  /// |S(parameter) - target|; NaN where the surface is undefined at the start.
+  double distance = 0.0;
+};
+
+/// Moves `start` to a local minimum of |S(u) - target| (Newton steps, the Hessian's curvature
+/// part dropped where it is not positive definite, steps halved until the distance decreases).
+SurfaceProjection projectOntoSurface(const FitSpace& space, const Eigen::MatrixXd& control,
+                                     const FitParameter& start, const Eigen::Vector3d& target,
+                                     int steps = 12);
+
+/// The thin-plate energy matrix K of the space (see above), numBasis x numBasis.
+Eigen::SparseMatrix<double> thinPlateEnergy(const FitSpace& space);
+
+}  // namespace mspline::spline

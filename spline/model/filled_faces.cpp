@@ -1,0 +1,138 @@
+#include "mspline/spline/model/filled_faces.h"
+
+#include <algorithm>
+
+#include "mspline/spline/subd/subd_fit_space.h"
+#include "mspline/spline/tribspline/tri_bspline.h"
+#include "mspline/spline/tspline/tspline.h"
+#include "mspline/structure/mesh/closest_point.h"
+#include "mspline/structure/core/errors.h"
+
+namespace mspline::spline {
+
+Eigen::MatrixX3d surfaceVertexImages(const SplineModel& model) {
+  Eigen::MatrixX3d images = model.surfaceVertices;
+  const Eigen::Index count = images.rows();
+  if (model.kind == SplineKind::TriangularBSpline) {
+    const TriBSplineSpace space(model.domain, model.knots);
+    for (Eigen::Index v = 0; v < count; ++v) {
+      const DomainPoint& p = model.surfaceVertexLocations[std::size_t(v)];
+      try {
+        images.row(v) = space.evaluate(model.controlPoints, p, 0).position.transpose();
+      } catch (const structure::InputError&) {
+        // A cone point: the spline is undefined there.
+      }
+    }
+  } else if (model.kind == SplineKind::TSpline) {
+    const TSplineSpace space(model.tmesh);
+    for (Eigen::Index v = 0; v < count; ++v) {
+      const TMeshPoint& p = model.surfaceVertexTMeshPoints[std::size_t(v)];
+      const TSplinePoint point =
+          space.evaluate(model.controlPoints, model.weights, p.face, p.position, 0);
+      if (point.position.allFinite()) images.row(v) = point.position.transpose();
+    }
+  } else {
+    const SubdSpace space(model.tmesh);
+    for (Eigen::Index v = 0; v < count; ++v) {
+      const TMeshPoint& p = model.surfaceVertexTMeshPoints[std::size_t(v)];
+      Eigen::Vector3d position;
+      if (space.evaluate(model.controlPoints, p.face, p.position, position))
+        images.row(v) = position.transpose();
+    }
+  }
+  return images;
+}
+
+std::vector<char> facesOverScan(const structure::PolygonSoup& tessellation,
+                                const SplineModel& model) {
+  std::vector<char> over(tessellation.faces.size(), 1);
+  bool anyFilled = false;
+  for (const char filled : model.surfaceFaceFilled) anyFilled = anyFilled || filled;
+  if (!anyFilled) return over;
+  const structure::TriangleMeshDistance surface(surfaceVertexImages(model), model.surfaceFaces);
+  std::vector<Eigen::Vector3d> centroids;
+  for (const auto& face : tessellation.faces) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (const auto v : face) {
+      const auto& p = tessellation.positions[std::size_t(v)];
+      sum += Eigen::Vector3d(p[0], p[1], p[2]);
+    }
+    centroids.push_back(sum / double(face.size()));
+  }
+  const auto closest = surface.queryAll(centroids);
+  for (std::size_t f = 0; f < closest.size(); ++f)
+    over[f] = model.surfaceFaceFilled[std::size_t(closest[f].face)] ? 0 : 1;
+  return over;
+}
+
+void dropBowTies(const structure::PolygonSoup& soup, std::vector<char>& keep) {
+  std::vector<std::vector<int>> around(soup.positions.size());
+  for (std::size_t f = 0; f < soup.faces.size(); ++f)
+    for (const auto v : soup.faces[f]) around[std::size_t(v)].push_back(int(f));
+  // Dropping a fan can make a neighbour a bow-tie in turn: repeat until nothing changes.
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (std::size_t v = 0; v < around.size(); ++v) {
+      std::vector<int> faces;
+      for (const int f : around[v])
+        if (keep[std::size_t(f)]) faces.push_back(f);
+      if (faces.size() < 2) continue;
+      // Fans: kept faces around v joined through edges at v (a shared second vertex).
+      std::vector<int> fan(faces.size(), -1);
+      int fans = 0;
+      for (std::size_t seed = 0; seed < faces.size(); ++seed) {
+        if (fan[seed] >= 0) continue;
+        std::vector<std::size_t> stack{seed};
+        fan[seed] = fans;
+        while (!stack.empty()) {
+          const std::size_t a = stack.back();
+          stack.pop_back();
+          for (std::size_t b = 0; b < faces.size(); ++b) {
+            if (fan[b] >= 0) continue;
+            bool shareEdge = false;
+            for (const auto x : soup.faces[std::size_t(faces[a])])
+              for (const auto y : soup.faces[std::size_t(faces[b])])
+                shareEdge = shareEdge || (x == y && std::size_t(x) != v);
+            if (shareEdge) {
+              fan[b] = fans;
+              stack.push_back(b);
+            }
+          }
+        }
+        ++fans;
+      }
+      if (fans < 2) continue;
+      std::vector<int> size(std::size_t(fans), 0);
+      for (const int k : fan) ++size[std::size_t(k)];
+      const int largest = int(std::max_element(size.begin(), size.end()) - size.begin());
+      for (std::size_t k = 0; k < faces.size(); ++k)
+        if (fan[k] != largest) keep[std::size_t(faces[k])] = 0;
+      changed = true;
+    }
+  }
+}
+
+std::vector<int> keepFaces(structure::PolygonSoup& soup, const std::vector<char>& keep) {
+  MSPLINE_ASSERT(keep.size() == soup.faces.size(), "keepFaces: one flag per face");
+  std::vector<int> newIndex(soup.positions.size(), -1);
+  structure::PolygonSoup kept;
+  kept.sourceName = soup.sourceName;
+  for (std::size_t f = 0; f < soup.faces.size(); ++f) {
+    if (!keep[f]) continue;
+    std::vector<std::int64_t> face;
+    for (const auto v : soup.faces[f]) {
+      int& index = newIndex[std::size_t(v)];
+      if (index < 0) {
+        index = int(kept.positions.size());
+        kept.positions.push_back(soup.positions[std::size_t(v)]);
+      }
+      face.push_back(index);
+    }
+    kept.faces.push_back(std::move(face));
+    if (!soup.cornerUVs.empty()) kept.cornerUVs.push_back(soup.cornerUVs[f]);
+  }
+  soup = std::move(kept);
+  return newIndex;
+}
+
+}  // namespace mspline::spline

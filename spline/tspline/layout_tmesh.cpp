@@ -1,0 +1,323 @@
+#include "mspline/spline/tspline/layout_tmesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <Eigen/Dense>
+
+#include "mspline/structure/core/errors.h"
+
+namespace mspline::spline {
+
+using structure::LayoutRectangle;
+using structure::MotorcycleLayout;
+
+namespace {
+
+// A basis of the integer solutions of A x = 0 (the columns of the result), by unimodular column
+// operations (extended Euclid, column by column, as for a Hermite normal form): A U = [H 0], and
+// the columns of U past H's rank span the lattice. Integer lengths combined from this basis satisfy
+// every rectangle's constraint by construction, whatever parities the constraints impose.
+Eigen::MatrixXd integerKernel(const Eigen::MatrixXd& constraints) {
+  const Eigen::Index m = constraints.rows(), n = constraints.cols();
+  std::vector<std::vector<long long>> a(static_cast<std::size_t>(m),
+                                        std::vector<long long>(static_cast<std::size_t>(n)));
+  for (Eigen::Index i = 0; i < m; ++i)
+    for (Eigen::Index j = 0; j < n; ++j)
+      a[std::size_t(i)][std::size_t(j)] = std::llround(constraints(i, j));
+  std::vector<std::vector<long long>> u(static_cast<std::size_t>(n),
+                                        std::vector<long long>(static_cast<std::size_t>(n), 0));
+  for (Eigen::Index j = 0; j < n; ++j) u[std::size_t(j)][std::size_t(j)] = 1;
+  // Column operation: column c += factor * column d, on A and U alike.
+  const auto addColumn = [&](std::size_t c, std::size_t d, long long factor) {
+    for (auto& row : a) row[c] += factor * row[d];
+    for (auto& row : u) row[c] += factor * row[d];
+  };
+  const auto swapColumns = [&](std::size_t c, std::size_t d) {
+    for (auto& row : a) std::swap(row[c], row[d]);
+    for (auto& row : u) std::swap(row[c], row[d]);
+  };
+  std::size_t pivot = 0;
+  for (std::size_t i = 0; i < std::size_t(m) && pivot < std::size_t(n); ++i) {
+    for (std::size_t j = pivot + 1; j < std::size_t(n); ++j)
+      while (a[i][j] != 0) {
+        if (a[i][pivot] == 0 || std::llabs(a[i][j]) < std::llabs(a[i][pivot]))
+          swapColumns(pivot, j);
+        if (a[i][j] != 0) addColumn(j, pivot, -(a[i][j] / a[i][pivot]));
+      }
+    if (a[i][pivot] != 0) ++pivot;
+  }
+  Eigen::MatrixXd kernel(n, n - Eigen::Index(pivot));
+  for (Eigen::Index j = Eigen::Index(pivot); j < n; ++j)
+    for (Eigen::Index r = 0; r < n; ++r)
+      kernel(r, j - Eigen::Index(pivot)) = double(u[std::size_t(r)][std::size_t(j)]);
+  return kernel;
+}
+
+// The real coefficients z of the kernel basis closest (weighted least squares) to `target`, the
+// fixed ones held.
+Eigen::VectorXd closestCoefficients(const Eigen::MatrixXd& kernel, const Eigen::VectorXd& target,
+                                    const Eigen::VectorXd& weight, const Eigen::VectorXd& z,
+                                    const std::vector<char>& fixed) {
+  std::vector<Eigen::Index> freeIndex;
+  Eigen::VectorXd rest = target;
+  for (Eigen::Index k = 0; k < kernel.cols(); ++k) {
+    if (fixed[std::size_t(k)])
+      rest -= kernel.col(k) * z[k];
+    else
+      freeIndex.push_back(k);
+  }
+  Eigen::VectorXd result = z;
+  if (freeIndex.empty()) return result;
+  Eigen::MatrixXd a(kernel.rows(), Eigen::Index(freeIndex.size()));
+  for (std::size_t k = 0; k < freeIndex.size(); ++k)
+    a.col(Eigen::Index(k)) = kernel.col(freeIndex[k]);
+  const Eigen::VectorXd w = weight.cwiseSqrt();
+  const Eigen::VectorXd solution =
+      (w.asDiagonal() * a).colPivHouseholderQr().solve(w.asDiagonal() * rest);
+  for (std::size_t k = 0; k < freeIndex.size(); ++k)
+    result[freeIndex[k]] = solution[Eigen::Index(k)];
+  return result;
+}
+
+// Cells and flat lengths summed along a side, per half-edge boundary.
+struct SideScale {
+  std::vector<double> flat{0.0};
+  std::vector<int> cells{0};
+  double map(double offset) const {
+    if (flat.back() <= 0.0) return 0.0;
+    offset = std::clamp(offset, 0.0, flat.back());
+    std::size_t k = 0;
+    while (k + 2 < flat.size() && flat[k + 1] < offset) ++k;
+    const double span = flat[k + 1] - flat[k];
+    const double f = span > 0.0 ? (offset - flat[k]) / span : 0.0;
+    return cells[k] + f * (cells[k + 1] - cells[k]);
+  }
+};
+
+SideScale sideScale(const MotorcycleLayout& layout, const std::vector<int>& segmentCells,
+                    const std::vector<int>& side) {
+  SideScale scale;
+  for (int he : side) {
+    scale.flat.push_back(scale.flat.back() + layout.segments()[std::size_t(he / 2)].length());
+    scale.cells.push_back(scale.cells.back() + segmentCells[std::size_t(he / 2)]);
+  }
+  return scale;
+}
+
+// Whole cells per segment: the integer solution of the rectangles' constraints closest to
+// `target`, every segment at least `minimum` cells; empty when the rounding cannot give that.
+Eigen::VectorXd roundCells(const Eigen::MatrixXd& constraints, const Eigen::MatrixXd& kernel,
+                           Eigen::VectorXd target, const Eigen::VectorXd& minimum, int& rounds) {
+  const Eigen::Index n = target.size();
+  // The kernel coefficients closest to whole numbers are fixed first, a batch per round, the rest
+  // re-solved. A segment below its minimum is pulled up (its weight raised) and the rounding
+  // redone.
+  Eigen::VectorXd weight = Eigen::VectorXd::Ones(n);
+  for (int attempt = 0; attempt < 20; ++attempt) {
+    std::vector<char> fixed(std::size_t(kernel.cols()), 0);
+    Eigen::VectorXd z =
+        closestCoefficients(kernel, target, weight, Eigen::VectorXd::Zero(kernel.cols()), fixed);
+    for (Eigen::Index remaining = kernel.cols(); remaining > 0;) {
+      ++rounds;
+      std::vector<std::pair<double, Eigen::Index>> order;
+      for (Eigen::Index k = 0; k < kernel.cols(); ++k)
+        if (!fixed[std::size_t(k)]) order.emplace_back(std::abs(z[k] - std::round(z[k])), k);
+      std::sort(order.begin(), order.end());
+      const std::size_t count = std::max<std::size_t>(1, order.size() / 8);
+      for (std::size_t i = 0; i < count; ++i) {
+        z[order[i].second] = std::round(z[order[i].second]);
+        fixed[std::size_t(order[i].second)] = 1;
+      }
+      remaining -= Eigen::Index(count);
+      z = closestCoefficients(kernel, target, weight, z, fixed);
+    }
+    Eigen::VectorXd values = kernel * z;
+    // Local repair: steps of one cell along lattice basis vectors with entries -1, 0, 1 (strips of
+    // cells added or removed) that lower the total shortfall.
+    const auto shortfall = [&](const Eigen::VectorXd& x) {
+      return (minimum - x).cwiseMax(0.0).sum();
+    };
+    for (int step = 0; step < 200 && shortfall(values) > 0.5; ++step) {
+      double best = shortfall(values), bestDeviation = INFINITY;
+      Eigen::VectorXd bestValues;
+      for (Eigen::Index k = 0; k < kernel.cols(); ++k)
+        for (double sign : {1.0, -1.0}) {
+          if (kernel.col(k).cwiseAbs().maxCoeff() > 1.0) continue;  // small moves only
+          const Eigen::VectorXd trial = values + sign * kernel.col(k);
+          const double s = shortfall(trial);
+          const double deviation = (weight.cwiseSqrt().asDiagonal() * (trial - target)).norm();
+          if (s < best - 0.5 ||
+              (s < best + 0.5 && s < shortfall(values) - 0.5 && deviation < bestDeviation)) {
+            best = s;
+            bestDeviation = deviation;
+            bestValues = trial;
+          }
+        }
+      if (bestValues.size() == 0) break;
+      values = bestValues;
+    }
+    bool tooShort = false;
+    for (Eigen::Index e = 0; e < n; ++e)
+      if (values[e] < minimum[e] - 0.5) {
+        tooShort = true;
+        weight[e] *= 10.0;
+        target[e] = std::max(target[e], minimum[e]);
+      }
+    if (!tooShort) {
+      if ((constraints * values).cwiseAbs().maxCoeff() > 0.5)
+        throw structure::InternalError("layout T-mesh: rounded cells break a rectangle");
+      return values;
+    }
+  }
+  return {};
+}
+
+// The cells of every rectangle, glued along the segments; the rectangle whose cells repeat a vertex
+// (a cell around a segment that starts and ends at one node) when that happens, else -1.
+int assembleCells(const MotorcycleLayout& layout, LayoutTMesh& grid) {
+  const auto& segments = layout.segments();
+  const auto& rectangles = layout.rectangles();
+  // Vertex ids: nodes, then inner points of segments, then inner points of rectangles.
+  std::vector<int> segmentBase(segments.size());
+  int next = int(layout.nodes().size());
+  for (std::size_t e = 0; e < segments.size(); ++e) {
+    segmentBase[e] = next;
+    next += grid.segmentCells[e] - 1;
+  }
+  const auto sideCells = [&](const std::vector<int>& side) {
+    int cells = 0;
+    for (int he : side) cells += grid.segmentCells[std::size_t(he / 2)];
+    return cells;
+  };
+  std::vector<TMeshFace> faces;
+  grid.rectangleCells.clear();
+  grid.firstCell.clear();
+  grid.maxAnisotropy = 1.0;
+  for (std::size_t r = 0; r < rectangles.size(); ++r) {
+    const LayoutRectangle& rect = rectangles[r];
+    const int cellsX = sideCells(rect.sides[0]), cellsY = sideCells(rect.sides[1]);
+    grid.rectangleCells.push_back({cellsX, cellsY});
+    const double sx = cellsX / rect.width(), sy = cellsY / rect.height();
+    grid.maxAnisotropy = std::max(grid.maxAnisotropy, std::max(sx / sy, sy / sx));
+    const int innerBase = next;
+    next += (cellsX - 1) * (cellsY - 1);
+    // The vertex at `offset` cells along side k, from its first corner.
+    const auto onSide = [&](int k, int offset) {
+      for (int he : rect.sides[std::size_t(k)]) {
+        const int cells = grid.segmentCells[std::size_t(he / 2)];
+        const auto& segment = segments[std::size_t(he / 2)];
+        if (offset == 0) return he % 2 == 0 ? segment.from : segment.to;
+        if (offset < cells)
+          return segmentBase[std::size_t(he / 2)] + (he % 2 == 0 ? offset : cells - offset) - 1;
+        offset -= cells;
+      }
+      // The far corner: the first node of the next side.
+      const int he = rect.sides[std::size_t((k + 1) % 4)].front();
+      const auto& segment = segments[std::size_t(he / 2)];
+      return he % 2 == 0 ? segment.from : segment.to;
+    };
+    const auto vertexAt = [&](int i, int j) {
+      if (j == 0) return onSide(0, i);
+      if (i == cellsX) return onSide(1, j);
+      if (j == cellsY) return onSide(2, cellsX - i);
+      if (i == 0) return onSide(3, cellsY - j);
+      return innerBase + (j - 1) * (cellsX - 1) + (i - 1);
+    };
+    grid.firstCell.push_back(int(faces.size()));
+    for (int j = 0; j < cellsY; ++j)
+      for (int i = 0; i < cellsX; ++i) {
+        TMeshFace face;
+        face.vertices = {vertexAt(i, j), vertexAt(i + 1, j), vertexAt(i + 1, j + 1),
+                         vertexAt(i, j + 1)};
+        face.positions = {{0.0, 0.0}, {1.0, 0.0}, {1.0, 1.0}, {0.0, 1.0}};
+        std::vector<int> sorted = face.vertices;
+        std::sort(sorted.begin(), sorted.end());
+        if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return int(r);
+        faces.push_back(std::move(face));
+      }
+  }
+  try {
+    grid.mesh = buildTMesh(next, std::move(faces));
+  } catch (const structure::InputError& error) {
+    throw structure::SolverError(std::string("layout T-mesh: the grid does not close up: ") +
+                                 error.what());
+  }
+  return -1;
+}
+
+}  // namespace
+
+LayoutTMesh layoutTMesh(const MotorcycleLayout& layout, const LayoutTMeshOptions& options) {
+  const auto& segments = layout.segments();
+  const auto& rectangles = layout.rectangles();
+  if (!(options.cellSize > 0.0))
+    throw structure::InputError("layout T-mesh: cell size must be positive");
+  const Eigen::Index n = Eigen::Index(segments.size());
+  Eigen::MatrixXd constraints = Eigen::MatrixXd::Zero(Eigen::Index(2 * rectangles.size()), n);
+  for (std::size_t r = 0; r < rectangles.size(); ++r)
+    for (int pair = 0; pair < 2; ++pair) {
+      for (int he : rectangles[r].sides[std::size_t(pair)])
+        constraints(Eigen::Index(2 * r + pair), he / 2) += 1.0;
+      for (int he : rectangles[r].sides[std::size_t(pair + 2)])
+        constraints(Eigen::Index(2 * r + pair), he / 2) -= 1.0;
+    }
+  const Eigen::MatrixXd kernel = integerKernel(constraints);
+  // A segment from a node back to itself needs two cells, or its cells would repeat the node.
+  Eigen::VectorXd minimum = Eigen::VectorXd::Ones(n);
+  for (Eigen::Index e = 0; e < n; ++e)
+    if (segments[std::size_t(e)].from == segments[std::size_t(e)].to) minimum[e] = 2.0;
+  LayoutTMesh grid;
+  grid.cellSize = options.cellSize;
+  int halvings = 0;
+  for (int attempt = 0; attempt < 12; ++attempt) {
+    Eigen::VectorXd target(n);
+    for (Eigen::Index e = 0; e < n; ++e)
+      target[e] = segments[std::size_t(e)].length() / grid.cellSize;
+    const Eigen::VectorXd values =
+        roundCells(constraints, kernel, target, minimum, grid.roundingRounds);
+    if (values.size() == 0) {
+      // Segments too short for whole cells: finer cells, up to 16 times as many.
+      if (++halvings > 2) break;
+      grid.cellSize /= 2.0;
+      continue;
+    }
+    grid.segmentCells.resize(std::size_t(n));
+    grid.maxRoundingError = 0.0;
+    for (Eigen::Index e = 0; e < n; ++e) {
+      grid.segmentCells[std::size_t(e)] = int(std::lround(values[e]));
+      grid.maxRoundingError = std::max(grid.maxRoundingError, std::abs(values[e] - target[e]));
+    }
+    const int repeating = assembleCells(layout, grid);
+    if (repeating < 0) return grid;
+    // Cells of that rectangle repeat a vertex: two cells at least along each of its segments.
+    for (const auto& side : rectangles[std::size_t(repeating)].sides)
+      for (int he : side) minimum[he / 2] = std::max(minimum[he / 2] + 1.0, 2.0);
+  }
+  throw structure::SolverError(
+      "layout T-mesh: no whole numbers of cells make a valid grid, down to cell size " +
+      std::to_string(grid.cellSize));
+}
+
+TMeshPoint layoutPoint(const MotorcycleLayout& layout, const LayoutTMesh& grid,
+                       const structure::RectanglePoint& point) {
+  const LayoutRectangle& rect = layout.rectangles().at(std::size_t(point.rectangle));
+  const auto [cellsX, cellsY] = grid.rectangleCells[std::size_t(point.rectangle)];
+  std::array<SideScale, 4> sides;
+  for (int k = 0; k < 4; ++k)
+    sides[std::size_t(k)] = sideScale(layout, grid.segmentCells, rect.sides[std::size_t(k)]);
+  const double w = rect.width(), h = rect.height();
+  const double x = point.position.x(), y = point.position.y();
+  const double fy = std::clamp(y / h, 0.0, 1.0), fx = std::clamp(x / w, 0.0, 1.0);
+  const double gridX = (1.0 - fy) * sides[0].map(x * sides[0].flat.back() / w) +
+                       fy * (cellsX - sides[2].map((w - x) * sides[2].flat.back() / w));
+  const double gridY = (1.0 - fx) * (cellsY - sides[3].map((h - y) * sides[3].flat.back() / h)) +
+                       fx * sides[1].map(y * sides[1].flat.back() / h);
+  const int i = std::clamp(int(std::floor(gridX)), 0, cellsX - 1);
+  const int j = std::clamp(int(std::floor(gridY)), 0, cellsY - 1);
+  return {grid.firstCell[std::size_t(point.rectangle)] + j * cellsX + i,
+          Eigen::Vector2d(std::clamp(gridX - i, 0.0, 1.0), std::clamp(gridY - j, 0.0, 1.0))};
+}
+
+}  // namespace mspline::spline

@@ -1,0 +1,61 @@
+#pragma once
+// A seamless quad mesh from a rectangle layout (structure/layout/motorcycle_layout.h): every segment of
+// the layout gets a whole number of cells, chosen so that opposite sides of every rectangle get
+// the same number (an integer-grid map in the sense of Bommes et al. and Campen et al.: the
+// rectangles, rescaled to whole sides, glue to a flat surface with the same cones), then every
+// rectangle is gridded into unit cells. Grid lines meet across every side, so the T-mesh has no
+// T-junctions; its only extraordinary vertices are the cones, and every knot interval is one, which
+// makes the cubic T-spline a uniform B-spline wherever the mesh is regular (OpenSubdiv's limit
+// surface there).
+//
+// Rounding: the integer solutions of the rectangles' constraints form a lattice; its basis comes
+// from unimodular column operations (a Hermite normal form), so rounding its coefficients can never
+// break a constraint, whatever parities the quarter-turn holonomy imposes (rounding the lengths
+// one by one can get stuck at half-integers). The coefficients are rounded greedily, the free ones
+// re-solved by least squares towards length / cell size after each round (as mixed-integer
+// quadrangulation does); a segment left without a cell is pulled up and the rounding redone.
+#include <array>
+#include <vector>
+
+#include "mspline/spline/tspline/tmesh.h"
+#include "mspline/structure/layout/motorcycle_layout.h"
+
+namespace mspline::spline {
+
+struct LayoutTMeshOptions {
+  /// Target cell side in the layout's flat metric.
+  double cellSize = 1.0;
+};
+
+struct LayoutTMesh {
+  TMesh mesh;
+  /// The cell size used: the one asked for, halved as often as segments too short for a whole
+  /// cell needed.
+  double cellSize = 0.0;
+  /// Cells along each layout segment, and per rectangle its cells along x and y.
+  std::vector<int> segmentCells;
+  std::vector<std::array<int, 2>> rectangleCells;
+  /// T-mesh face of cell (i, j) of rectangle r: firstCell[r] + j * cells along x + i.
+  std::vector<int> firstCell;
+  /// max over segments of |cells - length / cellSize|.
+  double maxRoundingError = 0.0;
+  /// max over rectangles of the ratio of its two scale factors (cells per flat length along x
+  /// and along y), >= 1: how far from square the cells are on the surface.
+  double maxAnisotropy = 1.0;
+  /// Rounding rounds, all attempts together.
+  int roundingRounds = 0;
+};
+
+/// Segments too short for a whole cell at the asked cell size make it halve (at most twice); a
+/// rectangle whose cells would repeat a vertex gets at least two cells along its segments. Throws
+/// SolverError when no valid grid is found.
+LayoutTMesh layoutTMesh(const structure::MotorcycleLayout& layout,
+                        const LayoutTMeshOptions& options = {});
+
+/// The point of the T-mesh at a point of the layout: the rectangle rescaled to its cells, the
+/// sides piecewise linearly through their nodes, the inside blended between opposite sides
+/// (continuous across rectangles).
+TMeshPoint layoutPoint(const structure::MotorcycleLayout& layout, const LayoutTMesh& grid,
+                       const structure::RectanglePoint& point);
+
+}  // namespace mspline::spline

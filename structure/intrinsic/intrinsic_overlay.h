@@ -1,0 +1,52 @@
+#pragma once
+// The common subdivision of the input mesh and an intrinsic triangulation reached from it by
+// Ptolemy flips (ricci_flips.h): the mesh whose faces are the cells cut out of every input face by
+// the intrinsic edges. Each cell is a convex polygon both in its input face and in its intrinsic
+// triangle, so the overlay carries the input's 3D positions and the flat metric at once, and every
+// point of every input face gets a position in the flat metric.
+//
+// The correspondence is the one of Gillespie, Springborn and Crane 2021: Euclidean triangles map
+// to ideal hyperbolic triangles by projective maps that keep their circumcircles (Klein model),
+// a flip re-triangulates an ideal quadrilateral of one hyperbolic surface, and scaling by u moves
+// a point with barycentric coordinates b to the one with coordinates proportional to exp(-u) b.
+// Input edges and intrinsic edges are hyperbolic geodesics, hence straight in every triangle's
+// Klein picture. The flips are replayed one by one on the input, each computed in a picture of its
+// quadrilateral inscribed in the unit circle, so no triangle inequality is needed along the way.
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "mspline/structure/intrinsic/intrinsic_triangulation.h"
+#include "mspline/structure/mesh/tri_mesh.h"
+
+namespace mspline::structure {
+
+struct IntrinsicOverlay {
+  /// The common subdivision, cells split into triangles. Vertices 0 .. n-1 are the input's, in
+  /// order, then one vertex per crossing of an input edge with an intrinsic edge, placed on the
+  /// input edge.
+  TriMesh mesh;
+  /// Length of every overlay edge (by edge idx()) in the flat metric of the intrinsic
+  /// triangulation at u.
+  Eigen::VectorXd edgeLengths;
+  /// For every overlay face, the input face and the intrinsic face it lies in.
+  std::vector<int> inputFace;
+  std::vector<int> intrinsicFace;
+  /// For every crossing vertex (overlay vertex n + c), the input edge it lies on.
+  std::vector<int> crossingInputEdge;
+  /// Number of flips replayed.
+  long flips = 0;
+  /// max over overlay edges on an intrinsic edge of the difference between the two lengths the
+  /// triangles on its sides give, relative to the edge: zero up to rounding when the replayed
+  /// correspondence is consistent.
+  double maxLengthMismatch = 0.0;
+};
+
+/// Replays `flips` (IntrinsicTriangulation::flippedEdges of a triangulation built from `input`) and
+/// builds the overlay with the flat metric of that triangulation at scale factors `u`, which must
+/// satisfy the triangle inequality there (Delaunay at a converged u does). Throws InputError on
+/// sizes that do not match and InternalError when rounding defeats the construction.
+IntrinsicOverlay intrinsicOverlay(const TriMesh& input, const std::vector<int>& flips,
+                                  const Eigen::VectorXd& u);
+
+}  // namespace mspline::structure

@@ -1,0 +1,558 @@
+#include "mspline/structure/layout/motorcycle_layout.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <queue>
+#include <string>
+#include <utility>
+
+#include "mspline/structure/core/errors.h"
+
+namespace mspline::structure {
+
+namespace {
+
+constexpr double kQuarter = M_PI / 2.0;
+
+double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+// Angle in [0, 2 pi).
+double wrapTurn(double angle) {
+  angle = std::fmod(angle, 2.0 * M_PI);
+  return angle < 0.0 ? angle + 2.0 * M_PI : angle;
+}
+
+struct Motion {
+  Eigen::Matrix2d rotation = Eigen::Matrix2d::Identity();
+  Eigen::Vector2d translation = Eigen::Vector2d::Zero();
+  double angle = 0.0;
+  Eigen::Vector2d apply(const Eigen::Vector2d& p) const { return rotation * p + translation; }
+};
+
+// A mesh face in its own coordinates: corner k (the to-vertex of the k-th halfedge from the face's
+// halfedge) at `corner[k]`, corner 0 at the origin, corner 1 on the +x axis. Local edge i runs from
+// corner i to corner i + 1.
+struct FaceGeometry {
+  std::array<int, 3> vertex{};
+  std::array<Eigen::Vector2d, 3> corner;
+  std::array<int, 3> neighbour{};
+  std::array<Motion, 3> across;
+  /// Angle of the cross field's first axis in the face's coordinates.
+  double frame = 0.0;
+};
+
+// A straight piece of a trace inside one mesh face, from a to b, at arc lengths s0 to s1.
+struct Piece {
+  int trace = -1;
+  Eigen::Vector2d a, b;
+  double s0 = 0.0, s1 = 0.0;
+};
+
+struct Trace {
+  int coneNode = -1;
+  int coneIndex = 0;  // which of the cone's axis directions, counter-clockwise
+  int face = -1;      // where the trace's tip is
+  Eigen::Vector2d tip, direction;
+  double length = 0.0;
+  bool running = true;
+  int endTrace = -1;  // the trace it ended on, at arc length endArc
+  double endArc = 0.0;
+  bool fromLeft = false;  // arrived from the left side of endTrace
+  int endNode = -1;
+};
+
+// The first crossing of the ray p + t d (0 < t <= limit) with segment [a, b]: t and the
+// parameter along the segment, or t = -1.
+std::pair<double, double> rayHit(const Eigen::Vector2d& p, const Eigen::Vector2d& d, double limit,
+                                 const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                                 double minimum) {
+  const Eigen::Vector2d e = b - a;
+  const double det = cross(d, e);
+  if (std::abs(det) <= 1e-14 * e.norm()) return {-1.0, 0.0};
+  const double t = cross(a - p, e) / det, w = cross(a - p, d) / det;
+  if (t <= minimum || t > limit || w < -1e-12 || w > 1.0 + 1e-12) return {-1.0, 0.0};
+  return {t, std::clamp(w, 0.0, 1.0)};
+}
+
+}  // namespace
+
+struct MotorcycleLayout::Data {
+  std::vector<FaceGeometry> faces;
+  std::vector<std::vector<Piece>> pieces;
+  std::vector<Trace> traces;
+  std::vector<LayoutNode> nodes;
+  std::vector<LayoutSegment> segments;
+  std::vector<std::vector<int>> traceSegments;
+  std::vector<LayoutRectangle> rectangles;
+  std::vector<int> halfedgeRectangle, halfedgeSide;
+  std::vector<double> halfedgeOffset;
+  double scale = 1.0;
+
+  // The exit of the ray from p along d (unit) in face f: distance, local edge and exit point. An
+  // exit within 1e-7 of a corner is moved off it along the side, so that no walk passes through a
+  // vertex (where the next face would be ambiguous).
+  struct Exit {
+    double t = -1.0;
+    int edge = -1;
+    Eigen::Vector2d point = Eigen::Vector2d::Zero();
+  };
+  Exit exitOf(int f, const Eigen::Vector2d& p, const Eigen::Vector2d& d) const {
+    const FaceGeometry& face = faces[std::size_t(f)];
+    Exit exit;
+    double along = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      const auto [t, w] = rayHit(p, d, INFINITY, face.corner[std::size_t(i)],
+                                 face.corner[std::size_t((i + 1) % 3)], 1e-12 * scale);
+      if (t >= 0.0 && (exit.edge < 0 || t < exit.t)) exit.t = t, exit.edge = i, along = w;
+    }
+    if (exit.edge >= 0) {
+      along = std::clamp(along, 1e-7, 1.0 - 1e-7);
+      const Eigen::Vector2d& a = face.corner[std::size_t(exit.edge)];
+      exit.point = a + along * (face.corner[std::size_t((exit.edge + 1) % 3)] - a);
+    }
+    return exit;
+  }
+
+  // The first trace piece met along p + t d, 0 < t <= limit, in face f.
+  struct Hit {
+    double t = -1.0;
+    int piece = -1;
+    double w = 0.0;
+  };
+  std::optional<RectanglePoint> walk(int f, Eigen::Vector2d p, Eigen::Vector2d direction) const;
+
+  Hit firstPiece(int f, const Eigen::Vector2d& p, const Eigen::Vector2d& d, double limit) const {
+    Hit hit;
+    for (std::size_t k = 0; k < pieces[f].size(); ++k) {
+      const Piece& piece = pieces[f][k];
+      const auto [t, w] = rayHit(p, d, limit, piece.a, piece.b, 1e-10 * scale);
+      if (t >= 0.0 && (hit.t < 0.0 || t < hit.t)) hit = {t, int(k), w};
+    }
+    return hit;
+  }
+};
+
+MotorcycleLayout::~MotorcycleLayout() = default;
+MotorcycleLayout::MotorcycleLayout(MotorcycleLayout&&) noexcept = default;
+MotorcycleLayout& MotorcycleLayout::operator=(MotorcycleLayout&&) noexcept = default;
+
+const std::vector<LayoutNode>& MotorcycleLayout::nodes() const {
+  return data_->nodes;
+}
+const std::vector<LayoutSegment>& MotorcycleLayout::segments() const {
+  return data_->segments;
+}
+const std::vector<LayoutRectangle>& MotorcycleLayout::rectangles() const {
+  return data_->rectangles;
+}
+const std::vector<int>& MotorcycleLayout::halfedgeRectangle() const {
+  return data_->halfedgeRectangle;
+}
+const std::vector<int>& MotorcycleLayout::halfedgeSide() const {
+  return data_->halfedgeSide;
+}
+const std::vector<double>& MotorcycleLayout::halfedgeOffset() const {
+  return data_->halfedgeOffset;
+}
+int MotorcycleLayout::numTraces() const {
+  return int(data_->traces.size());
+}
+double MotorcycleLayout::totalTraceLength() const {
+  double total = 0.0;
+  for (const Trace& t : data_->traces) total += t.length;
+  return total;
+}
+double MotorcycleLayout::longestTrace() const {
+  double longest = 0.0;
+  for (const Trace& t : data_->traces) longest = std::max(longest, t.length);
+  return longest;
+}
+
+MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& lengths,
+                                   const MotorcycleLayoutOptions& options)
+    : data_(std::make_unique<Data>()) {
+  Data& d = *data_;
+  if (lengths.size() != Eigen::Index(mesh.n_edges()))
+    throw InputError("motorcycle layout: " + std::to_string(lengths.size()) + " lengths for " +
+                     std::to_string(mesh.n_edges()) + " edges");
+  for (const auto h : mesh.halfedges())
+    if (mesh.is_boundary(h))
+      throw InputError("motorcycle layout: the surface has a boundary (closed surfaces only)");
+
+  // Face coordinates, and which local edge each halfedge is.
+  const int faceCount = int(mesh.n_faces());
+  d.faces.resize(std::size_t(faceCount));
+  std::vector<int> localEdge(mesh.n_halfedges(), -1);
+  double area = 0.0;
+  for (const auto f : mesh.faces()) {
+    FaceGeometry& face = d.faces[std::size_t(f.idx())];
+    std::array<OpenMesh::SmartHalfedgeHandle, 3> h;
+    h[0] = mesh.halfedge_handle(f);
+    h[1] = h[0].next();
+    h[2] = h[1].next();
+    for (int k = 0; k < 3; ++k) {
+      face.vertex[std::size_t(k)] = h[std::size_t(k)].to().idx();
+      // h_{k+1} runs from corner k to corner k + 1: local edge k.
+      localEdge[std::size_t(h[std::size_t((k + 1) % 3)].idx())] = k;
+    }
+    const double l01 = lengths[h[1].edge().idx()], l12 = lengths[h[2].edge().idx()],
+                 l20 = lengths[h[0].edge().idx()];
+    const double x = (l01 * l01 + l20 * l20 - l12 * l12) / (2.0 * l01);
+    face.corner = {Eigen::Vector2d::Zero(), Eigen::Vector2d(l01, 0.0),
+                   Eigen::Vector2d(x, std::sqrt(std::max(0.0, l20 * l20 - x * x)))};
+    area += 0.5 * cross(face.corner[1], face.corner[2]);
+  }
+  d.scale = std::sqrt(area);
+  for (const auto f : mesh.faces()) {
+    FaceGeometry& face = d.faces[std::size_t(f.idx())];
+    for (const auto h : mesh.fh_range(f)) {
+      const int i = localEdge[std::size_t(h.idx())];
+      const auto o = h.opp();
+      const int g = o.face().idx(), j = localEdge[std::size_t(o.idx())];
+      const FaceGeometry& other = d.faces[std::size_t(g)];
+      // Corner i of f is corner j + 1 of g, corner i + 1 of f is corner j of g.
+      const Eigen::Vector2d u = face.corner[std::size_t((i + 1) % 3)] - face.corner[std::size_t(i)];
+      const Eigen::Vector2d v =
+          other.corner[std::size_t(j)] - other.corner[std::size_t((j + 1) % 3)];
+      Motion& m = face.across[std::size_t(i)];
+      m.angle = std::atan2(cross(u, v), u.dot(v));
+      m.rotation << std::cos(m.angle), -std::sin(m.angle), std::sin(m.angle), std::cos(m.angle);
+      m.translation =
+          other.corner[std::size_t((j + 1) % 3)] - m.rotation * face.corner[std::size_t(i)];
+      face.neighbour[std::size_t(i)] = g;
+    }
+  }
+
+  // The cross field: one frame carried across the surface; quarter-turn holonomy keeps its axes
+  // consistent.
+  {
+    std::vector<char> done(std::size_t(faceCount), 0);
+    std::vector<int> stack{0};
+    done[0] = 1;
+    while (!stack.empty()) {
+      const int f = stack.back();
+      stack.pop_back();
+      for (int i = 0; i < 3; ++i) {
+        const int g = d.faces[std::size_t(f)].neighbour[std::size_t(i)];
+        if (done[std::size_t(g)]) continue;
+        d.faces[std::size_t(g)].frame =
+            d.faces[std::size_t(f)].frame + d.faces[std::size_t(f)].across[std::size_t(i)].angle;
+        done[std::size_t(g)] = 1;
+        stack.push_back(g);
+      }
+    }
+    double worst = 0.0;
+    for (int f = 0; f < faceCount; ++f)
+      for (int i = 0; i < 3; ++i) {
+        const FaceGeometry& face = d.faces[std::size_t(f)];
+        const double r = face.frame + face.across[std::size_t(i)].angle -
+                         d.faces[std::size_t(face.neighbour[std::size_t(i)])].frame;
+        worst = std::max(worst, std::abs(r - kQuarter * std::round(r / kQuarter)));
+      }
+    if (worst > options.angleTolerance)
+      throw InputError("motorcycle layout: the holonomy is not made of quarter turns (off by " +
+                       std::to_string(worst) + " rad; quantize the cones and the holonomy)");
+  }
+
+  // Cones, and the traces leaving them along the axes.
+  std::vector<double> angleSum(mesh.n_vertices(), 0.0);
+  for (int f = 0; f < faceCount; ++f) {
+    const FaceGeometry& face = d.faces[std::size_t(f)];
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector2d a = face.corner[std::size_t((k + 1) % 3)] - face.corner[std::size_t(k)];
+      const Eigen::Vector2d b = face.corner[std::size_t((k + 2) % 3)] - face.corner[std::size_t(k)];
+      angleSum[std::size_t(face.vertex[std::size_t(k)])] += std::atan2(cross(a, b), a.dot(b));
+    }
+  }
+  for (const auto v : mesh.vertices()) {
+    const double angle = angleSum[std::size_t(v.idx())];
+    if (std::abs(angle - 2.0 * M_PI) <= options.coneTolerance) continue;
+    const int quarterTurns = int(std::lround(angle / kQuarter));
+    if (quarterTurns < 1 || std::abs(angle - quarterTurns * kQuarter) > options.angleTolerance)
+      throw InputError("motorcycle layout: vertex " + std::to_string(v.idx()) + " has cone angle " +
+                       std::to_string(angle) + ", not a multiple of pi/2");
+    // One trace only: both sides of it bound the same rectangle, folded around the cone, and a
+    // quad grid cannot have a vertex of valence one.
+    if (quarterTurns == 1)
+      throw InputError("motorcycle layout: vertex " + std::to_string(v.idx()) +
+                       " is a cone of angle pi/2 (valence one in a quad grid); place cones of "
+                       "angle at least pi there");
+    const int node = int(d.nodes.size());
+    d.nodes.push_back({v.idx(), quarterTurns});
+    // Around v counter-clockwise, the corners' angles summed: trace j leaves at the first axis
+    // direction past the first edge, plus j quarter turns. Counting along the summed angle gives
+    // exactly one trace per quarter turn even when an axis runs along a mesh edge; such a trace is
+    // turned 1e-9 into the corner, so that it never runs along an edge.
+    struct Sector {
+      int face, corner;
+      double start, angle, before;
+    };
+    std::vector<Sector> sectors;
+    double around = 0.0;
+    const auto first = v.out();
+    auto h = first;
+    do {
+      const int f = h.face().idx();
+      const FaceGeometry& face = d.faces[std::size_t(f)];
+      const int k = localEdge[std::size_t(h.idx())];  // h runs from corner k (v) to corner k + 1
+      const Eigen::Vector2d a = face.corner[std::size_t((k + 1) % 3)] - face.corner[std::size_t(k)];
+      const Eigen::Vector2d b = face.corner[std::size_t((k + 2) % 3)] - face.corner[std::size_t(k)];
+      const double cornerAngle = std::atan2(cross(a, b), a.dot(b));
+      sectors.push_back({f, k, std::atan2(a.y(), a.x()), cornerAngle, around});
+      around += cornerAngle;
+      h = h.prev().opp();
+    } while (h != first);
+    const Sector& firstSector = sectors.front();
+    const double firstAxis = std::fmod(
+        wrapTurn(d.faces[std::size_t(firstSector.face)].frame - firstSector.start), kQuarter);
+    std::size_t s = 0;
+    for (int j = 0; j < quarterTurns; ++j) {
+      const double at = firstAxis + j * kQuarter;
+      while (s + 1 < sectors.size() && sectors[s + 1].before <= at) ++s;
+      const Sector& sector = sectors[s];
+      const double offset = std::clamp(at - sector.before, 1e-9, sector.angle - 1e-9);
+      Trace trace;
+      trace.coneNode = node;
+      trace.coneIndex = j;
+      trace.face = sector.face;
+      trace.tip = d.faces[std::size_t(sector.face)].corner[std::size_t(sector.corner)];
+      trace.direction =
+          Eigen::Vector2d(std::cos(sector.start + offset), std::sin(sector.start + offset));
+      d.traces.push_back(trace);
+    }
+  }
+  if (d.nodes.empty())
+    throw InputError("motorcycle layout: the metric has no cones (a flat torus needs no layout)");
+
+  // Grow all traces at the same pace, a face at a time; a trace stops where it meets another.
+  d.pieces.resize(std::size_t(faceCount));
+  const double maxLength = options.maxTraceLength * d.scale;
+  using Entry = std::pair<double, int>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+  for (std::size_t t = 0; t < d.traces.size(); ++t) queue.emplace(0.0, int(t));
+  while (!queue.empty()) {
+    const int t = queue.top().second;
+    queue.pop();
+    Trace& trace = d.traces[std::size_t(t)];
+    const Data::Exit exit = d.exitOf(trace.face, trace.tip, trace.direction);
+    if (exit.edge < 0)
+      throw SolverError("motorcycle layout: trace " + std::to_string(t) + " lost its way in face " +
+                        std::to_string(trace.face));
+    const Data::Hit hit = d.firstPiece(trace.face, trace.tip, trace.direction, exit.t);
+    const Eigen::Vector2d end =
+        hit.t >= 0.0 ? Eigen::Vector2d(trace.tip + hit.t * trace.direction) : exit.point;
+    const double step = (end - trace.tip).norm();
+    Piece piece{t, trace.tip, end, trace.length, trace.length + step};
+    if (hit.t >= 0.0) {
+      const Piece& other = d.pieces[std::size_t(trace.face)][std::size_t(hit.piece)];
+      trace.endTrace = other.trace;
+      trace.endArc = other.s0 + hit.w * (other.s1 - other.s0);
+      trace.fromLeft = cross(other.b - other.a, trace.direction) < 0.0;
+      trace.running = false;
+    }
+    d.pieces[std::size_t(trace.face)].push_back(piece);
+    trace.length += step;
+    if (!trace.running) continue;
+    if (trace.length > maxLength)
+      throw SolverError("motorcycle layout: trace " + std::to_string(t) + " from vertex " +
+                        std::to_string(d.nodes[std::size_t(trace.coneNode)].vertex) +
+                        " meets no other trace within " + std::to_string(options.maxTraceLength) +
+                        " times the surface's size");
+    const Motion& m = d.faces[std::size_t(trace.face)].across[std::size_t(exit.edge)];
+    trace.tip = m.apply(piece.b);
+    trace.direction = (m.rotation * trace.direction).normalized();
+    trace.face = d.faces[std::size_t(trace.face)].neighbour[std::size_t(exit.edge)];
+    queue.emplace(trace.length, t);
+  }
+
+  // The graph: nodes at cones and trace ends, segments between consecutive nodes of a trace.
+  for (Trace& trace : d.traces) {
+    trace.endNode = int(d.nodes.size());
+    d.nodes.push_back({-1, 4});
+  }
+  std::vector<std::vector<std::pair<double, int>>> breaks(d.traces.size());
+  for (std::size_t t = 0; t < d.traces.size(); ++t) {
+    const Trace& trace = d.traces[t];
+    breaks[t].emplace_back(0.0, trace.coneNode);
+    breaks[t].emplace_back(trace.length, trace.endNode);
+    breaks[std::size_t(trace.endTrace)].emplace_back(trace.endArc, trace.endNode);
+  }
+  // Outgoing half-edges at each node with their angle (quarter turns, counter-clockwise).
+  std::vector<std::vector<std::pair<int, int>>> outgoing(d.nodes.size());
+  d.traceSegments.resize(d.traces.size());
+  for (std::size_t t = 0; t < d.traces.size(); ++t) {
+    auto& list = breaks[t];
+    std::sort(list.begin(), list.end());
+    for (std::size_t k = 0; k + 1 < list.size(); ++k) {
+      if (list[k + 1].first - list[k].first <= 1e-12 * d.scale)
+        throw SolverError("motorcycle layout: two nodes coincide on trace " + std::to_string(t));
+      const int s = int(d.segments.size());
+      d.segments.push_back(
+          {int(t), list[k].first, list[k + 1].first, list[k].second, list[k + 1].second});
+      d.traceSegments[t].push_back(s);
+    }
+  }
+  for (std::size_t t = 0; t < d.traces.size(); ++t) {
+    const Trace& trace = d.traces[t];
+    const auto& own = d.traceSegments[t];
+    outgoing[std::size_t(trace.coneNode)].emplace_back(trace.coneIndex, 2 * own.front());
+    outgoing[std::size_t(trace.endNode)].emplace_back(trace.fromLeft ? 1 : 3, 2 * own.back() + 1);
+    // Where it ended, the other trace runs on (angle 0) and back (angle 2).
+    for (int s : d.traceSegments[std::size_t(trace.endTrace)]) {
+      if (d.segments[std::size_t(s)].from == trace.endNode)
+        outgoing[std::size_t(trace.endNode)].emplace_back(0, 2 * s);
+      if (d.segments[std::size_t(s)].to == trace.endNode)
+        outgoing[std::size_t(trace.endNode)].emplace_back(2, 2 * s + 1);
+    }
+  }
+  std::vector<int> nextOf(2 * d.segments.size(), -1), turnAt(2 * d.segments.size(), 0);
+  for (std::size_t n = 0; n < d.nodes.size(); ++n) {
+    auto& list = outgoing[n];
+    std::sort(list.begin(), list.end());
+    const int total = d.nodes[n].quarterTurns;
+    if (list.size() != (d.nodes[n].vertex >= 0 ? std::size_t(total) : 3u))
+      throw SolverError("motorcycle layout: node " + std::to_string(n) + " has " +
+                        std::to_string(list.size()) + " traces leaving it");
+    for (std::size_t k = 0; k < list.size(); ++k) {
+      // Arriving along the reverse of list[k], the face on the left leaves along the next
+      // half-edge clockwise.
+      const auto& previous = list[(k + list.size() - 1) % list.size()];
+      const int arriving = list[k].second ^ 1;
+      nextOf[std::size_t(arriving)] = previous.second;
+      int turn = list[k].first - previous.first;
+      if (turn <= 0) turn += total;
+      turnAt[std::size_t(arriving)] = turn;
+    }
+  }
+
+  // Faces of the graph: each must be a rectangle (four corners of one quarter turn, straight
+  // elsewhere).
+  d.halfedgeRectangle.assign(nextOf.size(), -1);
+  d.halfedgeSide.assign(nextOf.size(), -1);
+  d.halfedgeOffset.assign(nextOf.size(), 0.0);
+  for (std::size_t start = 0; start < nextOf.size(); ++start) {
+    if (d.halfedgeRectangle[start] >= 0) continue;
+    std::vector<int> cycle;
+    int he = int(start);
+    do {
+      cycle.push_back(he);
+      d.halfedgeRectangle[std::size_t(he)] = int(d.rectangles.size());
+      he = nextOf[std::size_t(he)];
+    } while (he != int(start) && cycle.size() <= nextOf.size());
+    int corners = 0, bad = 0;
+    for (int e : cycle) {
+      corners += turnAt[std::size_t(e)] == 1;
+      bad += turnAt[std::size_t(e)] != 1 && turnAt[std::size_t(e)] != 2;
+    }
+    if (corners != 4 || bad != 0)
+      throw SolverError("motorcycle layout: face " + std::to_string(d.rectangles.size()) +
+                        " of the trace graph is not a rectangle (" + std::to_string(corners) +
+                        " corners" + (bad ? ", a reflex or full turn" : "") + ")");
+    // Start right after a corner.
+    std::size_t first = 0;
+    while (turnAt[std::size_t(cycle[(first + cycle.size() - 1) % cycle.size()])] != 1) ++first;
+    LayoutRectangle rectangle;
+    int side = 0;
+    double offset = 0.0;
+    for (std::size_t k = 0; k < cycle.size(); ++k) {
+      const int e = cycle[(first + k) % cycle.size()];
+      rectangle.sides[std::size_t(side)].push_back(e);
+      d.halfedgeSide[std::size_t(e)] = side;
+      d.halfedgeOffset[std::size_t(e)] = offset;
+      offset += d.segments[std::size_t(e / 2)].length();
+      if (turnAt[std::size_t(e)] == 1) {
+        rectangle.sideLength[std::size_t(side)] = offset;
+        offset = 0.0;
+        ++side;
+      }
+    }
+    d.rectangles.push_back(rectangle);
+  }
+}
+
+// Walks from p in face f along `direction` to the first trace: the rectangle point there, or
+// nothing when the walk loses its way (a sliver face) or meets no trace.
+std::optional<RectanglePoint> MotorcycleLayout::Data::walk(int f, Eigen::Vector2d p,
+                                                           Eigen::Vector2d direction) const {
+  const Data& d = *this;
+  double travelled = 0.0;
+  for (;;) {
+    const Data::Exit exit = d.exitOf(f, p, direction);
+    if (exit.edge < 0) return std::nullopt;
+    const Data::Hit hit = d.firstPiece(f, p, direction, exit.t);
+    if (hit.t >= 0.0) {
+      const Piece& piece = d.pieces[std::size_t(f)][std::size_t(hit.piece)];
+      const double arc = piece.s0 + hit.w * (piece.s1 - piece.s0);
+      const bool fromLeft = cross(piece.b - piece.a, direction) < 0.0;
+      const auto& list = d.traceSegments[std::size_t(piece.trace)];
+      // The segment of the trace holding `arc`.
+      std::size_t k = 0;
+      while (k + 1 < list.size() && d.segments[std::size_t(list[k])].end < arc) ++k;
+      const LayoutSegment& segment = d.segments[std::size_t(list[k])];
+      const int he = 2 * list[k] + (fromLeft ? 0 : 1);
+      const double along =
+          d.halfedgeOffset[std::size_t(he)] + (fromLeft ? arc - segment.start : segment.end - arc);
+      const double depth = travelled + hit.t;
+      RectanglePoint point;
+      point.rectangle = d.halfedgeRectangle[std::size_t(he)];
+      point.side = d.halfedgeSide[std::size_t(he)];
+      point.alongSide = along;
+      const LayoutRectangle& r = d.rectangles[std::size_t(point.rectangle)];
+      const double w = r.width(), h = r.height();
+      switch (point.side) {
+        case 0:
+          point.position = {along, depth};
+          break;
+        case 1:
+          point.position = {w - depth, along};
+          break;
+        case 2:
+          point.position = {w - along, h - depth};
+          break;
+        default:
+          point.position = {depth, h - along};
+          break;
+      }
+      point.position =
+          point.position.cwiseMax(Eigen::Vector2d::Zero()).cwiseMin(Eigen::Vector2d(w, h));
+      return point;
+    }
+    travelled += (exit.point - p).norm();
+    if (travelled > 100.0 * d.scale) return std::nullopt;
+    const Motion& m = d.faces[std::size_t(f)].across[std::size_t(exit.edge)];
+    p = m.apply(exit.point);
+    direction = (m.rotation * direction).normalized();
+    f = d.faces[std::size_t(f)].neighbour[std::size_t(exit.edge)];
+  }
+}
+
+RectanglePoint MotorcycleLayout::locate(int face, const Eigen::Vector3d& barycentric) const {
+  const Data& d = *data_;
+  if (face < 0 || face >= int(d.faces.size()))
+    throw InputError("motorcycle layout: face " + std::to_string(face) + " out of range");
+  const FaceGeometry& start = d.faces[std::size_t(face)];
+  // A hair (1e-6 of the face) inside, walking along the axis directions, the one closest to the
+  // face's centre first: a walk from a corner or a side then leaves the face forwards.
+  const Eigen::Vector3d b = (1.0 - 1e-6) * barycentric + Eigen::Vector3d::Constant(1e-6 / 3.0);
+  const Eigen::Vector2d p =
+      b[0] * start.corner[0] + b[1] * start.corner[1] + b[2] * start.corner[2];
+  const Eigen::Vector2d towardsCentre =
+      (start.corner[0] + start.corner[1] + start.corner[2]) / 3.0 - p;
+  std::vector<std::pair<double, Eigen::Vector2d>> axes;
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector2d axis(std::cos(start.frame + k * kQuarter),
+                               std::sin(start.frame + k * kQuarter));
+    axes.emplace_back(-axis.dot(towardsCentre), axis);
+  }
+  std::sort(axes.begin(), axes.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (const auto& [order, axis] : axes)
+    if (const auto point = d.walk(face, p, axis)) return *point;
+  throw SolverError("motorcycle layout: no walk from face " + std::to_string(face) +
+                    " reaches a trace");
+}
+
+}  // namespace mspline::structure

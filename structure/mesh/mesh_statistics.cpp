@@ -1,0 +1,65 @@
+#include "mspline/structure/mesh/mesh_statistics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+namespace mspline::structure {
+
+MeshStatistics meshStatistics(const TriMesh& mesh) {
+  MeshStatistics stats;
+  bool first = true;
+  for (const auto v : mesh.vertices()) {
+    const auto& p = mesh.point(v);
+    if (first) {
+      stats.bboxMin = stats.bboxMax = p;
+      first = false;
+    } else {
+      stats.bboxMin.minimize(p);
+      stats.bboxMax.maximize(p);
+    }
+  }
+  stats.bboxDiagonal = (stats.bboxMax - stats.bboxMin).norm();
+
+  if (mesh.n_edges() > 0) {
+    stats.minEdgeLength = std::numeric_limits<double>::infinity();
+    for (const auto e : mesh.edges()) {
+      const double length = mesh.calc_edge_length(e);
+      stats.minEdgeLength = std::min(stats.minEdgeLength, length);
+      stats.maxEdgeLength = std::max(stats.maxEdgeLength, length);
+    }
+  }
+
+  std::vector<double> angles;
+  angles.reserve(3 * mesh.n_faces());
+  constexpr double kDegrees = 180.0 / 3.14159265358979323846;
+  for (const auto f : mesh.faces()) {
+    const auto h0 = mesh.halfedge_handle(f);
+    const auto h1 = mesh.next_halfedge_handle(h0);
+    const OpenMesh::Vec3d p[3] = {mesh.point(mesh.from_vertex_handle(h0)),
+                                  mesh.point(mesh.from_vertex_handle(h1)),
+                                  mesh.point(mesh.to_vertex_handle(h1))};
+    const OpenMesh::Vec3d normal = OpenMesh::cross(p[1] - p[0], p[2] - p[0]);
+    const double twiceArea = normal.norm();
+    stats.area += 0.5 * twiceArea;
+    for (int k = 0; k < 3; ++k) {
+      const OpenMesh::Vec3d a = p[(k + 1) % 3] - p[k], b = p[(k + 2) % 3] - p[k];
+      // atan2 stays accurate for angles near 0 and 180 degrees, where acos of the cosine does not;
+      // |a x b| equals twice the area at every corner.
+      angles.push_back(std::atan2(twiceArea, OpenMesh::dot(a, b)) * kDegrees);
+    }
+  }
+  if (!angles.empty()) {
+    stats.minAngleDegrees = *std::min_element(angles.begin(), angles.end());
+    const auto middle = angles.begin() + angles.size() / 2;
+    std::nth_element(angles.begin(), middle, angles.end());
+    stats.medianAngleDegrees = *middle;
+    if (angles.size() % 2 == 0)  // even count: average the two middle values
+      stats.medianAngleDegrees =
+          0.5 * (stats.medianAngleDegrees + *std::max_element(angles.begin(), middle));
+  }
+  return stats;
+}
+
+}  // namespace mspline::structure

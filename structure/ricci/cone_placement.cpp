@@ -1,0 +1,347 @@
+#include "mspline/structure/ricci/cone_placement.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <limits>
+#include <numeric>
+#include <sstream>
+
+#include <Eigen/LU>
+
+#include "mspline/structure/core/errors.h"
+#include "mspline/structure/core/index_map.h"
+#include "mspline/structure/core/sparse_cholesky.h"
+#include "mspline/structure/topology/topology.h"
+#include "mspline/structure/ricci/vertex_scaling_energy.h"
+
+namespace mspline::structure {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kQuarter = kPi / 2.0;
+
+// The input's cotangent Laplacian L, factorized once with u = 0 held at the base vertices (the
+// boundary, or vertex 0 as the gauge of a closed surface). Holding u = 0 at further vertices (the
+// cones) changes the system by one rank per vertex, so it is handled by the capacitance-matrix
+// method on the Green's functions G e_c of the base system instead of refactorizing.
+class BaseLaplacian {
+ public:
+  BaseLaplacian(const TriMesh& mesh, const std::vector<char>& held)
+      : laplacian_(vertexScalingHessian(
+            mesh, edgeLengths(mesh),
+            Eigen::VectorXd::Zero(static_cast<Eigen::Index>(mesh.n_vertices())))),
+        map_(mesh.n_vertices(), held) {
+    const Eigen::SparseMatrix<double> system = map_.restrict(laplacian_);
+    try {
+      solver_.compute(system);
+    } catch (const SolverError& e) {
+      throw SolverError(std::string("cone placement: the cotangent Laplacian of the input could "
+                                    "not be factorized (degenerate faces?): ") +
+                        e.what());
+    }
+  }
+
+  const Eigen::SparseMatrix<double>& laplacian() const { return laplacian_; }
+
+  // Solves L u = rhs on the vertices that are not held and u = 0 on the held ones.
+  Eigen::VectorXd solve(const Eigen::VectorXd& rhs) const {
+    Eigen::VectorXd u = Eigen::VectorXd::Zero(rhs.size());
+    map_.scatter(solver_.solve(map_.gather(rhs)), u);
+    return u;
+  }
+
+  // The Green's function of vertex v: solve(e_v), zero when v is held.
+  Eigen::VectorXd green(int v) const {
+    Eigen::VectorXd unit = Eigen::VectorXd::Zero(laplacian_.rows());
+    unit[v] = 1.0;
+    return solve(unit);
+  }
+
+  // (L u)_v, from column v of the symmetric L.
+  double apply(const Eigen::VectorXd& u, int v) const {
+    double sum = 0.0;
+    for (Eigen::SparseMatrix<double>::InnerIterator it(laplacian_, v); it; ++it)
+      sum += it.value() * u[it.row()];
+    return sum;
+  }
+
+ private:
+  Eigen::SparseMatrix<double> laplacian_;
+  IndexMap map_;
+  SparseCholesky solver_;
+};
+
+// One third of the area of every face around each vertex.
+Eigen::VectorXd vertexAreas(const TriMesh& mesh) {
+  Eigen::VectorXd area = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(mesh.n_vertices()));
+  for (const auto f : mesh.faces()) {
+    auto v = mesh.cfv_begin(f);
+    const auto a = *v++, b = *v++, c = *v;
+    const double third =
+        ((mesh.point(b) - mesh.point(a)) % (mesh.point(c) - mesh.point(a))).norm() / 6.0;
+    area[a.idx()] += third;
+    area[b.idx()] += third;
+    area[c.idx()] += third;
+  }
+  return area;
+}
+
+// Lowers `distance` (hops from the earlier sources, `limit` or more where farther) to the hops from
+// the nearest of the earlier and the new sources, where that is below `limit`; the search stops
+// where an earlier source is as close or the limit is reached, so each new cone costs only its
+// neighbourhood.
+void addHopSources(const TriMesh& mesh, const std::vector<int>& sources, int limit,
+                   std::vector<int>& distance) {
+  std::deque<int> queue;
+  for (int s : sources) {
+    distance[s] = 0;
+    queue.push_back(s);
+  }
+  while (!queue.empty()) {
+    const int v = queue.front();
+    queue.pop_front();
+    if (distance[v] + 1 >= limit) continue;
+    for (const auto w : mesh.vv_range(OpenMesh::VertexHandle(v))) {
+      if (distance[w.idx()] > distance[v] + 1) {
+        distance[w.idx()] = distance[v] + 1;
+        queue.push_back(w.idx());
+      }
+    }
+  }
+}
+
+double distortionOf(const Eigen::VectorXd& u, bool closed) {
+  return closed ? (u.maxCoeff() - u.minCoeff()) / 2.0 : u.cwiseAbs().maxCoeff();
+}
+
+// Largest-remainder rounding of the cone curvatures to multiples of pi/2 summing to `total`
+// quarter turns, no multiple above `largest` (at most 3: the cone angle stays positive).
+std::vector<int> roundToQuarterTurns(const std::vector<Cone>& cones, long total, int largest) {
+  std::vector<int> k(cones.size());
+  std::vector<double> remainder(cones.size());
+  long sum = 0;
+  for (std::size_t i = 0; i < cones.size(); ++i) {
+    const double q = cones[i].curvature / kQuarter;
+    k[i] = std::min(largest, static_cast<int>(std::floor(q)));
+    remainder[i] = q - k[i];
+    sum += k[i];
+  }
+  std::vector<std::size_t> order(cones.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return remainder[a] > remainder[b]; });
+  for (std::size_t i : order) {
+    if (sum >= total) break;
+    if (k[i] < largest) {
+      ++k[i];
+      ++sum;
+    }
+  }
+  if (sum != total) {
+    throw InputError("cone placement: " + std::to_string(cones.size()) +
+                     " cones cannot be quantized to multiples of pi/2 with positive angles "
+                     "summing to 2 pi chi; place more cones");
+  }
+  return k;
+}
+
+}  // namespace
+
+ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& options) {
+  const auto topology = analyzeTopology(mesh);
+  if (mesh.n_faces() == 0 || topology.components != 1) {
+    throw TopologyError("cone placement needs a connected mesh with faces; this one has " +
+                        std::to_string(topology.components) + " components and " +
+                        std::to_string(mesh.n_faces()) + " faces");
+  }
+  const bool closed = topology.closed;
+  const long chi = topology.euler;
+  if (options.singleCone && !(closed && topology.genus >= 2)) {
+    throw TopologyError("a single cone needs a closed surface of genus >= 2; this one has genus " +
+                        std::to_string(topology.genus) + " and " +
+                        std::to_string(topology.boundaryLoops) + " boundary loops");
+  }
+  if (options.targetCount < -1) {
+    throw InputError("cone placement: the target count must be -1 (automatic) or >= 0, not " +
+                     std::to_string(options.targetCount));
+  }
+
+  const auto n = static_cast<Eigen::Index>(mesh.n_vertices());
+  std::vector<int> boundary;
+  for (const auto v : mesh.vertices())
+    if (mesh.is_boundary(v)) boundary.push_back(v.idx());
+  if (boundary.size() == mesh.n_vertices())
+    throw TopologyError("cone placement: the mesh has no interior vertex");
+
+  const Eigen::VectorXd inputCurvature = vertexCurvatures(mesh, edgeLengths(mesh));
+  // Never a new cone: the boundary and the cones so far.
+  std::vector<char> pinned(mesh.n_vertices(), 0);
+  for (int v : boundary) pinned[v] = 1;
+  // The one factorization: u = 0 held on the boundary, or at vertex 0 (the gauge) when closed.
+  std::vector<char> held = pinned;
+  if (closed) held[0] = 1;
+  const BaseLaplacian system(mesh, held);
+  // Flat at every vertex that is not held; the rounds and the final solve start from it.
+  const Eigen::VectorXd flat = system.solve(-inputCurvature);
+  // Green's functions of the cones, in placement order.
+  std::vector<int> greenVertices;
+  std::vector<Eigen::VectorXd> greens;
+
+  // Round 0. Closed: the conformal factor to constant curvature (2 pi chi spread by area), gauge
+  // fixed at vertex 0 and then by mean zero; it is the flat metric itself on a torus. With a
+  // boundary: flat with u = 0 on the boundary.
+  Eigen::VectorXd u;
+  if (closed) {
+    const Eigen::VectorXd area = vertexAreas(mesh);
+    const Eigen::VectorXd uniform = area * (2.0 * kPi * static_cast<double>(chi) / area.sum());
+    u = system.solve(uniform - inputCurvature);
+    u.array() -= u.mean();
+  } else {
+    u = flat;
+  }
+
+  ConePlacementResult result;
+  result.distortionPerRound.push_back(distortionOf(u, closed));
+  std::ostringstream message;
+
+  if (options.singleCone) {
+    Eigen::Index best = 0;
+    u.cwiseAbs().maxCoeff(&best);
+    const int k = static_cast<int>(4 * chi);
+    result.cones.push_back({static_cast<int>(best), k * kQuarter});
+    result.quarterTurns.push_back(k);
+    message << "single cone at vertex " << best << " (curvature " << k << " pi/2)";
+  } else {
+    const double minAngle = options.minConeAngle;
+    std::vector<Cone>& cones = result.cones;
+    const auto valid = [&] {
+      if (closed && chi != 0 && cones.empty()) return false;
+      for (const Cone& c : cones)
+        if (2.0 * kPi - c.curvature < minAngle) return false;
+      return true;
+    };
+    std::vector<int> hops(mesh.n_vertices(), std::numeric_limits<int>::max());
+    addHopSources(mesh, boundary, options.minSeparation, hops);
+    std::string stop;
+    for (;;) {
+      const double distortion = result.distortionPerRound.back();
+      if (options.targetCount >= 0) {
+        if (static_cast<int>(cones.size()) == options.targetCount) {
+          stop = "reached the requested count";
+          break;
+        }
+      } else if (valid() && distortion <= options.maxDistortion) {
+        stop = "distortion below the threshold";
+        break;
+      } else if (static_cast<int>(cones.size()) >= options.maxCones) {
+        stop = "reached the maximum number of cones";
+        break;
+      }
+
+      int best = -1;
+      for (Eigen::Index v = 0; v < n; ++v) {
+        if (hops[v] < options.minSeparation || pinned[v]) continue;
+        if (best < 0 || std::abs(u[v]) > std::abs(u[best])) best = static_cast<int>(v);
+      }
+      if (best < 0) {
+        stop = "no vertex is far enough from the cones and the boundary";
+        break;
+      }
+      cones.push_back({best, 0.0});
+      pinned[best] = 1;
+      addHopSources(mesh, {best}, options.minSeparation, hops);
+      greenVertices.push_back(best);
+      greens.push_back(system.green(best));
+
+      // Flat at every free vertex, u = 0 at the cones and on the boundary; each cone keeps the
+      // curvature the linearized metric leaves there. That u is flat + sum_j w_j G e_j: the
+      // weights w are the cones' point curvatures, fixed by u = 0 at the cones (the capacitance
+      // system). Closed: the base system drops vertex 0's row, which holds again iff the weights
+      // sum to the total input curvature (the rows of L sum to zero), and a constant t (last
+      // unknown) replaces the gauge u_0 = 0.
+      const auto m = static_cast<Eigen::Index>(cones.size());
+      const Eigen::Index size = closed ? m + 1 : m;
+      Eigen::MatrixXd capacitance = Eigen::MatrixXd::Zero(size, size);
+      Eigen::VectorXd rhs(size);
+      for (Eigen::Index i = 0; i < m; ++i) {
+        for (Eigen::Index j = 0; j < m; ++j) capacitance(i, j) = greens[j][cones[i].vertex];
+        rhs[i] = -flat[cones[i].vertex];
+      }
+      if (closed) {
+        capacitance.row(m).head(m).setOnes();
+        capacitance.col(m).head(m).setOnes();
+        rhs[m] = inputCurvature.sum();
+      }
+      const Eigen::VectorXd weights = capacitance.partialPivLu().solve(rhs);
+      u = flat;
+      for (Eigen::Index j = 0; j < m; ++j) u += weights[j] * greens[j];
+      if (closed) u.array() += weights[m];
+      double sum = 0.0;
+      for (Cone& c : cones) {
+        c.curvature = inputCurvature[c.vertex] + system.apply(u, c.vertex);
+        sum += c.curvature;
+      }
+      if (closed) {
+        // Gauss-Bonnet holds up to rounding; make it exact.
+        const double excess =
+            (sum - 2.0 * kPi * static_cast<double>(chi)) / static_cast<double>(cones.size());
+        for (Cone& c : cones) c.curvature -= excess;
+      }
+      result.distortionPerRound.push_back(distortionOf(u, closed));
+    }
+    if (!valid()) {
+      std::ostringstream msg;
+      msg << "cone placement: " << cones.size() << " cones (" << stop
+          << ") cannot flatten this surface: ";
+      if (cones.empty()) {
+        msg << "Gauss-Bonnet needs total curvature 2 pi chi = " << 2.0 * kPi * chi;
+      } else {
+        const auto worst = std::max_element(
+            cones.begin(), cones.end(), [](auto& a, auto& b) { return a.curvature < b.curvature; });
+        msg << "the cone at vertex " << worst->vertex << " would have angle "
+            << 2.0 * kPi - worst->curvature << " (below " << minAngle << ")";
+      }
+      throw InputError(msg.str());
+    }
+    message << cones.size() << " cones after " << result.distortionPerRound.size() - 1
+            << " rounds (" << stop << ")";
+
+    if (options.quantize && !cones.empty()) {
+      if (options.maxQuarterTurns < 1 || options.maxQuarterTurns > 3)
+        throw InputError("cone placement: the largest quarter-turn multiple must be 1 to 3");
+      const int largest = options.maxQuarterTurns;
+      std::vector<int> k;
+      if (closed) {
+        k = roundToQuarterTurns(cones, 4 * chi, largest);
+      } else {
+        for (const Cone& c : cones)
+          k.push_back(std::min(largest, static_cast<int>(std::lround(c.curvature / kQuarter))));
+      }
+      std::vector<Cone> kept;
+      for (std::size_t i = 0; i < cones.size(); ++i) {
+        if (k[i] == 0) continue;
+        kept.push_back({cones[i].vertex, k[i] * kQuarter});
+        result.quarterTurns.push_back(k[i]);
+      }
+      message << ", " << kept.size() << " after quantization";
+      cones = std::move(kept);
+    }
+  }
+
+  // The linear solve for the returned cones as curvature targets (u = 0 where held), by linearity.
+  result.u = flat;
+  for (const Cone& c : result.cones) {
+    const auto at = std::find(greenVertices.begin(), greenVertices.end(), c.vertex);
+    result.u += c.curvature * (at != greenVertices.end() ? greens[at - greenVertices.begin()]
+                                                         : system.green(c.vertex));
+  }
+  if (closed) result.u.array() -= result.u.mean();
+  result.distortion = distortionOf(result.u, closed);
+  message << "; linearized distortion " << result.distortion;
+  result.message = message.str();
+  return result;
+}
+
+}  // namespace mspline::structure

@@ -1,0 +1,96 @@
+#pragma once
+// Flat metrics whose rotation along every loop is a quarter turn (seamless metrics).
+//
+// Ricci flow with cones quantized to multiples of pi/2 fixes the rotation around each cone, but on
+// a closed surface of genus g >= 1 the rotation along the 2g handle loops is set by the conformal
+// structure and is arbitrary (eight.off: about 0.3 rad off). No conformal factor can change it, so
+// the metric leaves the conformal class: the log edge lengths take least-norm Newton steps that
+// keep every vertex's curvature and bring each handle loop's rotation to the nearest multiple of
+// the quantum, weighted so that skinny triangles hardly move. A loop's rotation is a sum of corner
+// angles along a dual loop, so the constraints stay angle sums (Campen, Shen, Zhou and Zorin 2019
+// prescribe holonomy the same way).
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include "mspline/structure/ricci/curvature_target.h"
+#include "mspline/structure/mesh/tri_mesh.h"
+
+namespace mspline::structure {
+
+/// A closed path of faces: halfedges[i] is the halfedge by which the path leaves its i-th face; its
+/// opposite lies in the next face, and the last one's opposite in the first.
+struct DualLoop {
+  std::vector<int> halfedges;
+};
+
+/// 2g dual loops whose classes form a basis of the first homology of a closed surface (tree-cotree:
+/// a breadth-first vertex tree, a dual tree of the remaining edges, one loop per edge left over).
+/// Throws TopologyError when the surface has a boundary or several components.
+std::vector<DualLoop> homologyDualLoops(const TriMesh& mesh);
+
+/// The rotation of parallel transport once along each loop (radians, counter-clockwise positive),
+/// summed from the corner angles of `lengths` without reduction mod 2 pi.
+Eigen::VectorXd loopRotations(const TriMesh& mesh, const Eigen::VectorXd& lengths,
+                              const std::vector<DualLoop>& loops);
+
+/// What quantizeHolonomy solves for: one equation per vertex but `droppedVertex` (its curvature
+/// follows from Gauss-Bonnet) and one per loop.
+struct HolonomyProblem {
+  std::vector<DualLoop> loops;
+  /// Target curvature of every vertex.
+  Eigen::VectorXd targetCurvature;
+  /// Target rotation of every loop.
+  Eigen::VectorXd targetRotation;
+  int droppedVertex = 0;
+};
+
+/// The residuals: curvature - target for the vertices (in index order, the dropped one skipped),
+/// then rotation - target for the loops.
+Eigen::VectorXd holonomyResiduals(const TriMesh& mesh, const Eigen::VectorXd& lengths,
+                                  const HolonomyProblem& problem);
+
+/// Jacobian of holonomyResiduals with respect to the log edge lengths (one column per edge).
+Eigen::SparseMatrix<double> holonomyJacobian(const TriMesh& mesh, const Eigen::VectorXd& lengths,
+                                             const HolonomyProblem& problem);
+
+struct HolonomyQuantizationOptions {
+  /// Loop rotations are moved to the nearest multiple of this (radians); pi/2 suits quad layouts
+  /// and T-spline knot grids.
+  double quantum = 1.5707963267948966;
+  /// Converged when every residual is at most this (radians); the atlas judges quarter turns to
+  /// 1e-9.
+  double tolerance = 1e-11;
+  int maxIterations = 30;
+};
+
+struct HolonomyQuantizationResult {
+  /// The new flat metric, by edge index (the input lengths when nothing had to move).
+  Eigen::VectorXd edgeLengths;
+  /// The handle loops and their rotations before and after (targets: multiples of the quantum).
+  std::vector<DualLoop> loops;
+  Eigen::VectorXd initialRotation;
+  Eigen::VectorXd targetRotation;
+  /// Every residual within the tolerance.
+  bool converged = false;
+  /// Newton steps taken.
+  int iterations = 0;
+  /// Largest residual at the end (radians).
+  double maxResidual = 0.0;
+  /// max |log(new length / old length)| over the edges: how far the metric moved.
+  double maxLogLengthChange = 0.0;
+  /// Why the iteration stopped.
+  std::string message;
+};
+
+/// Moves the flat metric `lengths` (cone curvatures `cones`, flat elsewhere) of a closed surface
+/// to one with the same cones whose handle loops rotate by multiples of the quantum. Throws
+/// TopologyError for surfaces with boundary, InputError for sizes that do not match. Non-
+/// convergence is reported in the result, not thrown.
+HolonomyQuantizationResult quantizeHolonomy(const TriMesh& mesh, const Eigen::VectorXd& lengths,
+                                            const std::vector<Cone>& cones,
+                                            const HolonomyQuantizationOptions& options = {});
+
+}  // namespace mspline::structure

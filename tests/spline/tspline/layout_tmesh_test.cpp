@@ -1,0 +1,121 @@
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+
+#include "mspline/spline/tspline/layout_tmesh.h"
+#include "mspline/spline/tspline/tspline.h"
+#include "mspline/spline/tspline/tspline_check.h"
+#include "mspline/structure/core/errors.h"
+#include "mspline/structure/layout/motorcycle_layout.h"
+#include "support/flat_metric.h"
+
+using namespace mspline;
+
+TEST_CASE("layout_tmesh: a seamless quad mesh with the cones as its only extraordinary points",
+          "[spline]") {
+  const test::FlatMetric flat = test::eightConeSphere();
+  const structure::MotorcycleLayout layout(flat.surface, flat.lengths);
+  spline::LayoutTMeshOptions options;
+  double area = 0.0;
+  for (const auto& r : layout.rectangles()) area += r.width() * r.height();
+  options.cellSize = std::sqrt(area / 600.0);
+  const spline::LayoutTMesh grid = spline::layoutTMesh(layout, options);
+  const spline::TMesh& mesh = grid.mesh;
+  // About the cells asked for, all unit squares, no T-junctions.
+  CHECK(mesh.numFaces() > 400);
+  CHECK(mesh.numFaces() < 900);
+  long edges = 0;
+  for (const auto& face : mesh.faces) {
+    CHECK(face.vertices.size() == 4);
+    CHECK(face.width == 1.0);
+    CHECK(face.height == 1.0);
+    edges += 4;
+  }
+  // A closed surface of genus 0: V - E + F = 2.
+  CHECK(mesh.numVertices - edges / 2 + mesh.numFaces() == 2);
+  int extraordinary = 0;
+  for (int v = 0; v < mesh.numVertices; ++v) {
+    CHECK_FALSE(mesh.onBoundary[v]);
+    if (!mesh.isExtraordinary(v)) continue;
+    ++extraordinary;
+    CHECK(mesh.quarterTurnsAround[v] == 3);
+  }
+  CHECK(extraordinary == 8);
+  // Opposite sides of every rectangle got the same cells, every segment at least one.
+  for (std::size_t r = 0; r < layout.rectangles().size(); ++r)
+    for (int pair = 0; pair < 2; ++pair) {
+      int a = 0, b = 0;
+      for (int he : layout.rectangles()[r].sides[std::size_t(pair)])
+        a += grid.segmentCells[std::size_t(he / 2)];
+      for (int he : layout.rectangles()[r].sides[std::size_t(pair + 2)])
+        b += grid.segmentCells[std::size_t(he / 2)];
+      CHECK(a == b);
+      CHECK(a == grid.rectangleCells[r][std::size_t(pair)]);
+    }
+  for (int cells : grid.segmentCells) CHECK(cells >= 1);
+  CHECK(grid.maxRoundingError < 3.0);
+}
+
+TEST_CASE("layout_tmesh: surface points land in their rectangle's cells", "[spline]") {
+  const test::FlatMetric flat = test::eightConeSphere();
+  const structure::MotorcycleLayout layout(flat.surface, flat.lengths);
+  spline::LayoutTMeshOptions options;
+  options.cellSize = 0.05;
+  const spline::LayoutTMesh grid = spline::layoutTMesh(layout, options);
+  std::mt19937 random(9);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int s = 0; s < 200; ++s) {
+    const int face = int(random() % flat.surface.n_faces());
+    const double a = unit(random), b = unit(random) * (1.0 - a);
+    const structure::RectanglePoint point = layout.locate(face, Eigen::Vector3d(1.0 - a - b, a, b));
+    const spline::TMeshPoint cell = spline::layoutPoint(layout, grid, point);
+    const int first = grid.firstCell[std::size_t(point.rectangle)];
+    const auto [cellsX, cellsY] = grid.rectangleCells[std::size_t(point.rectangle)];
+    CHECK(cell.face >= first);
+    CHECK(cell.face < first + cellsX * cellsY);
+    CHECK(cell.position.minCoeff() >= 0.0);
+    CHECK(cell.position.maxCoeff() <= 1.0);
+    // Corners of the rectangle go to the corner cells.
+    const auto& r = layout.rectangles()[std::size_t(point.rectangle)];
+    structure::RectanglePoint corner = point;
+    corner.position = {r.width(), r.height()};
+    CHECK(spline::layoutPoint(layout, grid, corner).face == first + cellsX * cellsY - 1);
+    CHECK(spline::layoutPoint(layout, grid, corner).position == Eigen::Vector2d(1.0, 1.0));
+  }
+}
+
+TEST_CASE("layout_tmesh: the T-spline on it is seamless, with holes only at the cones",
+          "[spline]") {
+  const test::FlatMetric flat = test::eightConeSphere();
+  const structure::MotorcycleLayout layout(flat.surface, flat.lengths);
+  spline::LayoutTMeshOptions options;
+  options.cellSize = 0.05;
+  const spline::TSplineSpace space(spline::layoutTMesh(layout, options).mesh);
+  // No function at a cone (valence 3) nor at the six vertices around it, whose open supports
+  // hold it.
+  CHECK(space.missingAnchors().size() == 8 * 7);
+  for (const auto& missing : space.missingAnchors())
+    CHECK((missing.reason == "extraordinary vertex" ||
+           missing.reason.find("support holds extraordinary vertex") != std::string::npos));
+  std::mt19937 random(4);
+  Eigen::MatrixXd control(space.numBasis(), 3);
+  for (Eigen::Index i = 0; i < control.size(); ++i) control.data()[i] = double(random() % 1000);
+  spline::TSplineCheckOptions checkOptions;
+  checkOptions.samples = 3000;
+  const auto check = spline::checkTSpline(space, control, {}, checkOptions);
+  CHECK(check.chartDiscrepancy <= 1e-14);
+  CHECK(check.edgeSamples > 2500);
+  CHECK(check.partitionOfUnityErrorAway <= 1e-13);
+  CHECK(check.awaySamples > 1500);
+  CHECK(check.holeSamples == 0);
+  CHECK(check.minDenominator > 0.0);
+}
+
+TEST_CASE("layout_tmesh: a bad cell size is refused", "[spline]") {
+  const test::FlatMetric flat = test::eightConeSphere();
+  const structure::MotorcycleLayout layout(flat.surface, flat.lengths);
+  spline::LayoutTMeshOptions options;
+  options.cellSize = 0.0;
+  CHECK_THROWS_AS(spline::layoutTMesh(layout, options), structure::InputError);
+}

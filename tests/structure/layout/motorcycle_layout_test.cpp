@@ -1,0 +1,109 @@
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "mspline/structure/core/errors.h"
+#include "mspline/structure/layout/motorcycle_layout.h"
+#include "support/flat_metric.h"
+#include "support/test_meshes.h"
+
+using namespace mspline;
+using structure::MotorcycleLayout;
+
+namespace {
+
+double flatArea(const test::FlatMetric& flat) {
+  double area = 0.0;
+  for (const auto f : flat.surface.faces()) {
+    std::array<double, 3> l{};
+    int k = 0;
+    for (const auto e : f.edges()) l[std::size_t(k++)] = flat.lengths[e.idx()];
+    const double s = 0.5 * (l[0] + l[1] + l[2]);
+    area += std::sqrt(std::max(0.0, s * (s - l[0]) * (s - l[1]) * (s - l[2])));
+  }
+  return area;
+}
+
+}  // namespace
+
+TEST_CASE("motorcycle_layout: eight cones cut a sphere into rectangles", "[structure]") {
+  const test::FlatMetric flat = test::eightConeSphere();
+  const MotorcycleLayout layout(flat.surface, flat.lengths);
+  // Three traces leave every cone of angle 3 pi / 2; each ends at a T-node.
+  CHECK(layout.numTraces() == 24);
+  CHECK(layout.nodes().size() == 8 + 24);
+  double area = 0.0;
+  for (const auto& r : layout.rectangles()) {
+    CHECK(std::abs(r.sideLength[0] - r.sideLength[2]) <= 1e-9 * r.width());
+    CHECK(std::abs(r.sideLength[1] - r.sideLength[3]) <= 1e-9 * r.height());
+    area += r.width() * r.height();
+  }
+  // The rectangles tile the surface: Euler's formula for the graph, and the areas add up.
+  const long v = long(layout.nodes().size()), e = long(layout.segments().size()),
+             f = long(layout.rectangles().size());
+  CHECK(v - e + f == 2);
+  CHECK(area == Approx(flatArea(flat)).epsilon(1e-9));
+  // Every half-edge has its rectangle, and the sides' pieces add up to the side.
+  for (std::size_t he = 0; he < layout.halfedgeRectangle().size(); ++he) {
+    const auto& r = layout.rectangles()[std::size_t(layout.halfedgeRectangle()[he])];
+    const int side = layout.halfedgeSide()[he];
+    CHECK(layout.halfedgeOffset()[he] + layout.segments()[he / 2].length() <=
+          r.sideLength[std::size_t(side)] * (1.0 + 1e-12));
+  }
+}
+
+TEST_CASE("motorcycle_layout: locating is an isometry into the rectangles", "[structure]") {
+  const test::FlatMetric flat = test::eightConeSphere();
+  const MotorcycleLayout layout(flat.surface, flat.lengths);
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> unit(0.05, 0.9);
+  int sameRectangle = 0;
+  for (int s = 0; s < 300; ++s) {
+    const int face = int(random() % flat.surface.n_faces());
+    double a = unit(random), b = unit(random) * (1.0 - a);
+    const Eigen::Vector3d p(1.0 - a - b, a, b);
+    const Eigen::Vector3d q = p + Eigen::Vector3d(-1e-3, 1e-3, 0.0);
+    const auto here = layout.locate(face, p), there = layout.locate(face, q);
+    const auto& r = layout.rectangles()[std::size_t(here.rectangle)];
+    CHECK(here.position.x() >= 0.0);
+    CHECK(here.position.y() >= 0.0);
+    CHECK(here.position.x() <= r.width());
+    CHECK(here.position.y() <= r.height());
+    if (here.rectangle != there.rectangle) continue;
+    ++sameRectangle;
+    // The flat distance of the two points, from the face's side lengths.
+    const auto f = flat.surface.face_handle(face);
+    std::array<double, 3> l{};
+    auto h = flat.surface.halfedge_handle(f);
+    for (int k = 0; k < 3; ++k, h = flat.surface.next_halfedge_handle(h))
+      l[std::size_t(k)] =
+          flat.lengths[flat.surface.edge_handle(flat.surface.next_halfedge_handle(h)).idx()];
+    // Barycentric difference (d0, d1, d2) summing to zero: |x|^2 = -sum_{i<j} d_i d_j l_ij^2,
+    // l_ij the side between corners i and j (corner k is the to-vertex of halfedge k).
+    const Eigen::Vector3d delta = q - p;
+    const double l01 = l[0], l12 = l[1], l20 = l[2];
+    const double distance =
+        std::sqrt(-(delta[0] * delta[1] * l01 * l01 + delta[1] * delta[2] * l12 * l12 +
+                    delta[2] * delta[0] * l20 * l20));
+    // (The walk starts 1e-6 of the face inside it, which scales differences by 1 - 1e-6.)
+    CHECK((there.position - here.position).norm() == Approx(distance).epsilon(3e-6));
+  }
+  CHECK(sameRectangle > 250);
+}
+
+TEST_CASE("motorcycle_layout: metrics it cannot lay out are refused", "[structure]") {
+  const structure::TriMesh sphere = test::icosphere(2);
+  // Twelve cones of angle 5 pi / 3 (an icosahedron's): not multiples of pi/2.
+  std::vector<structure::Cone> cones;
+  for (int v = 0; v < 12; ++v) cones.push_back({v, M_PI / 3.0});
+  const test::FlatMetric icosahedral = test::flatMetric(sphere, cones);
+  CHECK_THROWS_WITH(MotorcycleLayout(icosahedral.surface, icosahedral.lengths),
+                    Catch::Contains("quarter turns") || Catch::Contains("multiple of pi/2"));
+  CHECK_THROWS_AS(MotorcycleLayout(sphere, Eigen::VectorXd::Ones(3)), structure::InputError);
+  CHECK_THROWS_WITH(
+      MotorcycleLayout(test::gridDisk(4),
+                       Eigen::VectorXd::Ones(Eigen::Index(test::gridDisk(4).n_edges()))),
+      Catch::Contains("boundary"));
+}

@@ -1,0 +1,150 @@
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+
+#include "mspline/structure/atlas/affine_atlas.h"
+#include "mspline/structure/ricci/cone_placement.h"
+#include "mspline/structure/ricci/curvature_target.h"
+#include "mspline/structure/core/errors.h"
+#include "mspline/structure/layout/flat_layout.h"
+#include "mspline/structure/ricci/holonomy_quantization.h"
+#include "mspline/structure/ricci/ricci_newton.h"
+#include "mspline/structure/ricci/vertex_scaling_energy.h"
+#include "support/test_meshes.h"
+
+using namespace mspline;
+using structure::DualLoop;
+using structure::TriMesh;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// The faces around vertex v, each left by its edge from v: a small dual loop.
+DualLoop loopAround(const TriMesh& mesh, int v) {
+  DualLoop loop;
+  const auto first = mesh.halfedge_handle(TriMesh::VertexHandle(v));
+  auto h = first;
+  do {
+    loop.halfedges.push_back(h.idx());
+    h = mesh.next_halfedge_handle(mesh.opposite_halfedge_handle(h));
+  } while (h != first);
+  return loop;
+}
+
+structure::TransitionKind flatAtlasKind(const TriMesh& mesh, const Eigen::VectorXd& lengths) {
+  const auto layout = structure::layoutFlatMetric(mesh, lengths);
+  REQUIRE(layout.flippedTriangles == 0);
+  const auto atlas = structure::buildAffineAtlas(mesh, lengths, layout);
+  CHECK(atlas.maxTransitionResidual <= 1e-10);
+  CHECK(atlas.maxCocycleResidual <= 1e-10);
+  return atlas.kind;
+}
+
+bool isClosedDualLoop(const TriMesh& mesh, const DualLoop& loop) {
+  const auto& hs = loop.halfedges;
+  for (std::size_t i = 0; i < hs.size(); ++i) {
+    const auto out = TriMesh::HalfedgeHandle(hs[i]);
+    const auto next = TriMesh::HalfedgeHandle(hs[(i + 1) % hs.size()]);
+    if (mesh.face_handle(mesh.opposite_halfedge_handle(out)) != mesh.face_handle(next))
+      return false;
+  }
+  return !hs.empty();
+}
+
+}  // namespace
+
+TEST_CASE("holonomy_quantization: tree-cotree gives 2g closed dual loops", "[structure]") {
+  CHECK(structure::homologyDualLoops(test::icosphere(2)).empty());
+  const TriMesh torus = test::torus(20, 8);
+  const TriMesh doubleTorus = test::doubleTorus(3);
+  const auto torusLoops = structure::homologyDualLoops(torus);
+  const auto doubleLoops = structure::homologyDualLoops(doubleTorus);
+  CHECK(torusLoops.size() == 2);
+  CHECK(doubleLoops.size() == 4);
+  for (const auto& loop : torusLoops) CHECK(isClosedDualLoop(torus, loop));
+  for (const auto& loop : doubleLoops) CHECK(isClosedDualLoop(doubleTorus, loop));
+  CHECK_THROWS_AS(structure::homologyDualLoops(test::gridDisk(4)), structure::TopologyError);
+}
+
+TEST_CASE("holonomy_quantization: a loop around a vertex turns by its curvature", "[structure]") {
+  const TriMesh mesh = test::icosphere(2);
+  const Eigen::VectorXd lengths = structure::edgeLengths(mesh);
+  const Eigen::VectorXd curvature = structure::vertexCurvatures(mesh, lengths);
+  for (int v : {0, 5, 40}) {
+    const auto rotation = structure::loopRotations(mesh, lengths, {loopAround(mesh, v)});
+    INFO("vertex " << v << ": rotation " << rotation[0] << ", curvature " << curvature[v]);
+    CHECK(std::abs(std::remainder(rotation[0] - curvature[v], 2 * kPi)) <= 1e-12);
+  }
+}
+
+TEST_CASE("holonomy_quantization: Jacobian matches finite differences", "[structure]") {
+  const TriMesh mesh = test::doubleTorus(3);
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> jitter(-0.05, 0.05);
+  Eigen::VectorXd lengths = structure::edgeLengths(mesh);
+  for (Eigen::Index e = 0; e < lengths.size(); ++e) lengths[e] *= std::exp(jitter(random));
+  REQUIRE(structure::degenerateFaces(mesh, lengths).empty());
+
+  structure::HolonomyProblem problem;
+  problem.loops = structure::homologyDualLoops(mesh);
+  problem.targetCurvature = Eigen::VectorXd::Zero(Eigen::Index(mesh.n_vertices()));
+  problem.targetRotation = Eigen::VectorXd::Zero(Eigen::Index(problem.loops.size()));
+  problem.droppedVertex = 7;
+  const Eigen::MatrixXd jacobian = structure::holonomyJacobian(mesh, lengths, problem);
+  REQUIRE(jacobian.rows() == Eigen::Index(mesh.n_vertices() - 1 + problem.loops.size()));
+  const double h = 1e-6;
+  double worst = 0.0;
+  for (Eigen::Index e = 0; e < lengths.size(); e += 7) {
+    Eigen::VectorXd plus = lengths, minus = lengths;
+    plus[e] *= std::exp(h);
+    minus[e] *= std::exp(-h);
+    const Eigen::VectorXd column = (structure::holonomyResiduals(mesh, plus, problem) -
+                                    structure::holonomyResiduals(mesh, minus, problem)) /
+                                   (2 * h);
+    worst = std::max(worst, (column - jacobian.col(e)).cwiseAbs().maxCoeff());
+  }
+  CHECK(worst <= 1e-7);
+}
+
+TEST_CASE("holonomy_quantization: a double torus with quantized cones becomes seamless",
+          "[structure]") {
+  const TriMesh mesh = test::doubleTorus(4);
+  structure::ConePlacementOptions placement;
+  placement.quantize = true;
+  const auto cones = structure::placeCones(mesh, placement).cones;
+  structure::RicciNewtonOptions options;
+  options.tolerance = 1e-13;
+  const auto flow =
+      structure::solveVertexScaling(mesh, structure::flatTarget(mesh, cones), options);
+  REQUIRE(flow.converged);
+
+  const auto result = structure::quantizeHolonomy(mesh, flow.edgeLengths, cones);
+  WARN("doubleTorus(4), " << cones.size() << " cones: " << result.iterations
+                          << " Newton steps, residual " << result.maxResidual
+                          << ", log length change " << result.maxLogLengthChange << ", rotations "
+                          << result.initialRotation.transpose() << " -> "
+                          << result.targetRotation.transpose());
+  REQUIRE(result.converged);
+  REQUIRE(result.loops.size() == 4);
+  // The conformal metric's handle rotations are not all quarter turns: there was work to do.
+  const Eigen::VectorXd off = result.initialRotation - result.targetRotation;
+  CHECK(off.cwiseAbs().maxCoeff() > 1e-3);
+  CHECK(flatAtlasKind(mesh, flow.edgeLengths) == structure::TransitionKind::Rigid);
+
+  // Same cones, flat elsewhere, every handle a quarter turn, no degenerate triangle.
+  const Eigen::VectorXd& lengths = result.edgeLengths;
+  CHECK(structure::degenerateFaces(mesh, lengths).empty());
+  const Eigen::VectorXd curvature = structure::vertexCurvatures(mesh, lengths);
+  Eigen::VectorXd expected = Eigen::VectorXd::Zero(curvature.size());
+  for (const auto& cone : cones) expected[cone.vertex] = cone.curvature;
+  CHECK((curvature - expected).cwiseAbs().maxCoeff() <= 1e-11);
+  const Eigen::VectorXd rotation = structure::loopRotations(mesh, lengths, result.loops);
+  for (Eigen::Index k = 0; k < rotation.size(); ++k) {
+    const double quarters = rotation[k] / (kPi / 2);
+    CHECK(std::abs(quarters - std::round(quarters)) <= 1e-11);
+  }
+  // The atlas of the new metric: every transition a quarter turn plus a translation.
+  CHECK(flatAtlasKind(mesh, lengths) == structure::TransitionKind::Rotation90);
+}
