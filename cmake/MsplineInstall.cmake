@@ -7,15 +7,17 @@ set(MSPLINE_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/mspline)
 
 # The viewer is not part of the package: it is the `mspline view` command's window, and its
 # private GLFW, OpenGL and Dear ImGui libraries would become every consumer's dependencies.
-install(TARGETS mspline_structure mspline_spline mspline_subd mspline_model mspline_io
+set(mspline_libraries mspline_structure mspline_spline mspline_subd mspline_model mspline_io)
+install(TARGETS ${mspline_libraries}
         EXPORT msplineTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(TARGETS mspline RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 if(BUILD_SHARED_LIBS)
-  # The installed executable finds the shared libraries installed beside it, in any prefix.
+  # Installed, the executable and the libraries find the libraries they need in any prefix.
   set_target_properties(mspline PROPERTIES INSTALL_RPATH "$ORIGIN/../${CMAKE_INSTALL_LIBDIR}")
+  set_target_properties(${mspline_libraries} PROPERTIES INSTALL_RPATH "$ORIGIN")
 endif()
 
 # Public headers keep their room paths: <mspline/spline/tspline/tspline.h>. Not installed: the
