@@ -50,7 +50,7 @@ int main(int argc, char** argv) {
   CLI::App app{
       "mspline: manifold spline modeling on triangle meshes.\n"
       "Exit codes: 0 success, 1 usage error, 2 invalid input, 3 computation failed."};
-  app.set_version_flag("--version", "mspline 0.1.0");
+  app.set_version_flag("--version", "mspline " MSPLINE_VERSION);
   app.require_subcommand(1);
   Command command;
   addInfoCommand(app, command);
