@@ -5,8 +5,8 @@
 #include "mspline/spline/subd/subd_fit_space.h"
 #include "mspline/spline/tribspline/tri_bspline.h"
 #include "mspline/spline/tspline/tspline.h"
-#include "mspline/structure/mesh/closest_point.h"
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/mesh/closest_point.h"
 
 namespace mspline::spline {
 
@@ -110,6 +110,13 @@ void dropBowTies(const structure::PolygonSoup& soup, std::vector<char>& keep) {
       changed = true;
     }
   }
+}
+
+std::vector<char> facesToKeep(const structure::PolygonSoup& tessellation,
+                              const SplineModel& model) {
+  std::vector<char> keep = facesOverScan(tessellation, model);
+  dropBowTies(tessellation, keep);
+  return keep;
 }
 
 std::vector<int> keepFaces(structure::PolygonSoup& soup, const std::vector<char>& keep) {
