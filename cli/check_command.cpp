@@ -1,23 +1,15 @@
 // mspline check: a spline model evaluated at random surface points in every chart holding each,
-// with its partition of unity and denominators.
-#include <algorithm>
-#include <cmath>
+// with its partition of unity and denominators (spline/model/check_model.h).
 #include <iostream>
-#include <limits>
-#include <random>
 
 #include "cli/command.h"
 #include "mspline/io/spline_model_file.h"
-#include "mspline/spline/tribspline/tri_bspline.h"
-#include "mspline/spline/tspline/tspline_check.h"
-#include "mspline/structure/core/errors.h"
+#include "mspline/spline/model/check_model.h"
 #include "mspline/structure/core/stopwatch.h"
 
 namespace mspline::cli {
 
 namespace {
-
-using namespace structure;
 
 struct CheckArguments {
   std::string model;
@@ -26,64 +18,64 @@ struct CheckArguments {
   unsigned seed = 1;
 };
 
-// Face areas of the domain, for sampling points uniformly on the surface.
-std::vector<double> faceAreas(const spline::SplineDomain& domain) {
-  std::vector<double> areas;
-  for (int f = 0; f < domain.faceCount(); ++f) {
-    const auto c = spline::canonicalCorners(domain, f);
-    areas.push_back(0.5 * std::abs((c[1] - c[0]).x() * (c[2] - c[0]).y() -
-                                   (c[1] - c[0]).y() * (c[2] - c[0]).x()));
-  }
-  return areas;
+Json tsplineReport(const std::string& file, const spline::CheckResult& result) {
+  const spline::TSplineCheck& check = result.tspline;
+  return {{"file", file},
+          {"kind", "tspline"},
+          {"samples", check.samples},
+          {"max_chart_discrepancy", result.maxChartDiscrepancy},
+          {"edge_chart_discrepancy", check.chartDiscrepancy},
+          {"edge_samples", check.edgeSamples},
+          {"knot_route_discrepancy", check.knotRouteDiscrepancy},
+          {"bezier_discrepancy", check.bezierDiscrepancy},
+          {"bezier_derivative_discrepancy", check.bezierDerivativeDiscrepancy},
+          {"partition_of_unity_error", check.partitionOfUnityError},
+          {"normalized_samples", check.normalizedSamples},
+          {"partition_of_unity_error_away_from_holes", check.partitionOfUnityErrorAway},
+          {"samples_away_from_holes", check.awaySamples},
+          {"partition_of_unity_required", result.partitionOfUnityRequired},
+          {"hole_samples", check.holeSamples},
+          {"min_denominator", check.minDenominator},
+          {"control_points", result.controlPoints},
+          {"missing_anchors", result.missingAnchors},
+          {"degree", result.degree},
+          {"passed", result.passed}};
 }
 
-// T-spline models: the same figures through spline::checkTSpline.
-int checkTSplineModel(const CheckArguments& a, const spline::SplineModel& model, Command& command) {
-  Stopwatch clock;
-  const spline::TSplineSpace space(model.tmesh);
-  spline::TSplineCheckOptions options;
-  options.samples = a.samples;
-  options.seed = a.seed;
-  const spline::TSplineCheck check =
-      spline::checkTSpline(space, model.controlPoints, model.weights, options);
-  const double seconds = clock.lap();
-  const double discrepancy =
-      std::max({check.chartDiscrepancy, check.knotRouteDiscrepancy, check.bezierDiscrepancy});
-  // A closed T-mesh without T-junctions is a partition of unity away from the vertices without
-  // function (around extraordinary points); elsewhere the rational normalization is reported.
-  const bool noTJunctions = !model.tmesh.hasBoundary() && model.tmesh.numTJunctions() == 0;
-  const bool passed =
-      discrepancy <= 1e-12 && (!noTJunctions || check.partitionOfUnityErrorAway <= 1e-12);
-  Json report{{"file", a.model},
-              {"kind", "tspline"},
-              {"samples", check.samples},
-              {"max_chart_discrepancy", discrepancy},
-              {"edge_chart_discrepancy", check.chartDiscrepancy},
-              {"edge_samples", check.edgeSamples},
-              {"knot_route_discrepancy", check.knotRouteDiscrepancy},
-              {"bezier_discrepancy", check.bezierDiscrepancy},
-              {"bezier_derivative_discrepancy", check.bezierDerivativeDiscrepancy},
-              {"partition_of_unity_error", check.partitionOfUnityError},
-              {"normalized_samples", check.normalizedSamples},
-              {"partition_of_unity_error_away_from_holes", check.partitionOfUnityErrorAway},
-              {"samples_away_from_holes", check.awaySamples},
-              {"partition_of_unity_required", noTJunctions},
-              {"hole_samples", check.holeSamples},
-              {"min_denominator", check.minDenominator},
-              {"control_points", space.numBasis()},
-              {"missing_anchors", space.missingAnchors().size()},
-              {"degree", 3},
-              {"passed", passed},
-              {"seconds", seconds}};
-  if (command.json) {
-    printJson(report);
-  } else {
-    std::cout << check.samples << " samples: chart discrepancy " << discrepancy
+Json triBSplineReport(const std::string& file, const spline::CheckResult& result) {
+  const spline::TriBSplineCheck& check = result.triBSpline;
+  return {{"file", file},
+          {"samples", check.samples},
+          {"charts_per_sample", check.chartsPerSample},
+          {"max_chart_discrepancy", result.maxChartDiscrepancy},
+          {"point_route_discrepancy", check.pointRouteDiscrepancy},
+          {"knot_route_discrepancy", check.knotRouteDiscrepancy},
+          {"knot_route_samples", check.knotRouteSamples},
+          {"partition_of_unity_error", check.partitionOfUnityError},
+          {"partition_of_unity_samples", check.partitionOfUnitySamples},
+          {"normalized_partition_of_unity_error", check.normalizedPartitionOfUnityError},
+          {"min_denominator", check.minDenominator},
+          {"control_points", result.controlPoints},
+          {"degree", result.degree},
+          {"passed", result.passed}};
+}
+
+void printSummary(const spline::CheckResult& result) {
+  const char* failed = result.passed ? "" : "  FAILED";
+  if (result.kind == spline::SplineKind::TSpline) {
+    const spline::TSplineCheck& check = result.tspline;
+    std::cout << check.samples << " samples: chart discrepancy " << result.maxChartDiscrepancy
               << " of the diagonal, partition of unity " << check.partitionOfUnityError << " ("
               << check.normalizedSamples << " samples normalized, " << check.holeSamples
-              << " in holes)" << (passed ? "" : "  FAILED") << std::endl;
+              << " in holes)" << failed << std::endl;
+    return;
   }
-  return passed ? int(kExitSuccess) : int(kExitComputationFailed);
+  const spline::TriBSplineCheck& check = result.triBSpline;
+  std::cout << check.samples << " samples, " << check.chartsPerSample
+            << " charts each: chart discrepancy " << check.pointRouteDiscrepancy
+            << " of the diagonal, partition of unity " << check.partitionOfUnityError << " ("
+            << check.partitionOfUnitySamples << " samples away from cones), min denominator "
+            << check.minDenominator << failed << std::endl;
 }
 
 }  // namespace
@@ -113,103 +105,23 @@ void addCheckCommand(CLI::App& app, Command& command) {
     command.name = "check";
     command.run = [&command, arguments] {
       const CheckArguments& a = *arguments;
-      Stopwatch clock;
-      const spline::SplineModel model = io::readSplineModel(a.model);
-      if (model.kind == spline::SplineKind::TSpline) return checkTSplineModel(a, model, command);
-      // Its evaluation is OpenSubdiv's, checked by the test suite: no chart figures to report.
-      if (model.kind == spline::SplineKind::Subdivision)
-        throw InputError(a.model +
-                         ": check knows triangular B-splines and T-splines; this is a subdivision "
-                         "surface (Catmull-Clark), which has no charts to compare (use export)");
-      const spline::TriBSplineSpace space(model.domain, model.knots);
-      if (model.controlPoints.rows() != space.numBasis())
-        throw InputError(a.model + ": " + std::to_string(model.controlPoints.rows()) +
-                         " control points for " + std::to_string(space.numBasis()) +
-                         " basis functions");
-      const double loadSeconds = clock.lap();
-      const double diagonal =
-          (model.surfaceVertices.colwise().maxCoeff() - model.surfaceVertices.colwise().minCoeff())
-              .norm();
-      const std::vector<double> areas = faceAreas(model.domain);
-      std::mt19937_64 random(a.seed);
-      std::discrete_distribution<int> pickFace(areas.begin(), areas.end());
-      std::uniform_real_distribution<double> unit(0.0, 1.0);
-      // Faces where no cone's functions reach: there the DMS identity holds unnormalized.
-      std::vector<char> awayFromCones(std::size_t(model.domain.faceCount()), 1);
-      for (int f = 0; f < model.domain.faceCount(); ++f)
-        for (int k : space.chartsHolding(f))
-          for (int v : model.domain.faces[std::size_t(k)])
-            if (model.domain.cone[std::size_t(v)]) awayFromCones[std::size_t(f)] = 0;
-
-      double discrepancy = 0.0, knotDiscrepancy = 0.0, unity = 0.0, rawUnity = 0.0;
-      double minDenominator = std::numeric_limits<double>::infinity();
-      long charts = 0, rawSamples = 0;
-      spline::BasisValues basis;
-      for (int s = 0; s < a.samples; ++s) {
-        // Uniform in the triangle: reflect the unit square's upper half.
-        double u = unit(random), v = unit(random);
-        if (u + v > 1.0) {
-          u = 1.0 - u;
-          v = 1.0 - v;
-        }
-        const spline::DomainPoint point{pickFace(random), Eigen::Vector3d(1.0 - u - v, u, v)};
-        double denominator = 0.0;
-        space.basisAt(point, basis, 0, &denominator);
-        minDenominator = std::min(minDenominator, denominator);
-        double sum = 0.0;
-        Eigen::Vector3d value = Eigen::Vector3d::Zero();
-        for (std::size_t k = 0; k < basis.index.size(); ++k) {
-          sum += basis.value[k];
-          value += basis.value[k] * model.controlPoints.row(basis.index[k]).transpose();
-        }
-        unity = std::max(unity, std::abs(sum - 1.0));
-        if (awayFromCones[std::size_t(point.face)]) {
-          rawUnity = std::max(rawUnity, std::abs(denominator - 1.0));
-          ++rawSamples;
-        }
-        const int holders = int(space.chartsHolding(point.face).size());
-        for (int chart = 0; chart < holders; ++chart) {
-          const Eigen::VectorXd other = space.evaluateInChart(
-              model.controlPoints, point, chart, spline::TriBSplineSpace::ChartRoute::MovePoint);
-          discrepancy = std::max(discrepancy, (other - value).norm() / diagonal);
-          ++charts;
-          // Moving the knots instead re-evaluates every simplex spline from scratch: slow, so on
-          // the first samples only.
-          if (s < a.knotSamples) {
-            const Eigen::VectorXd moved = space.evaluateInChart(
-                model.controlPoints, point, chart, spline::TriBSplineSpace::ChartRoute::MoveKnots);
-            knotDiscrepancy = std::max(knotDiscrepancy, (moved - value).norm() / diagonal);
-          }
-        }
-      }
-      const double checkSeconds = clock.lap();
-      const bool passed =
-          std::max(discrepancy, knotDiscrepancy) <= 1e-12 && unity <= 1e-12 && rawUnity <= 1e-11;
-      Json report{{"file", a.model},
-                  {"samples", a.samples},
-                  {"charts_per_sample", double(charts) / a.samples},
-                  {"max_chart_discrepancy", std::max(discrepancy, knotDiscrepancy)},
-                  {"point_route_discrepancy", discrepancy},
-                  {"knot_route_discrepancy", knotDiscrepancy},
-                  {"knot_route_samples", std::min(a.samples, a.knotSamples)},
-                  {"partition_of_unity_error", rawUnity},
-                  {"partition_of_unity_samples", rawSamples},
-                  {"normalized_partition_of_unity_error", unity},
-                  {"min_denominator", minDenominator},
-                  {"control_points", space.numBasis()},
-                  {"degree", space.degree()},
-                  {"passed", passed},
-                  {"seconds", loadSeconds + checkSeconds}};
+      structure::Stopwatch clock;
+      spline::CheckOptions options;
+      options.samples = a.samples;
+      options.knotSamples = a.knotSamples;
+      options.seed = a.seed;
+      const spline::CheckResult result =
+          spline::checkModel(io::readSplineModel(a.model), a.model, options);
       if (command.json) {
+        Json report = result.kind == spline::SplineKind::TSpline
+                          ? tsplineReport(a.model, result)
+                          : triBSplineReport(a.model, result);
+        report["seconds"] = clock.lap();
         printJson(report);
       } else {
-        std::cout << a.samples << " samples, " << double(charts) / a.samples
-                  << " charts each: chart discrepancy " << discrepancy
-                  << " of the diagonal, partition of unity " << rawUnity << " (" << rawSamples
-                  << " samples away from cones), min denominator " << minDenominator
-                  << (passed ? "" : "  FAILED") << std::endl;
+        printSummary(result);
       }
-      return passed ? int(kExitSuccess) : int(kExitComputationFailed);
+      return result.passed ? int(kExitSuccess) : int(kExitComputationFailed);
     };
   });
 }

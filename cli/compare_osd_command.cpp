@@ -1,18 +1,15 @@
 // mspline compare-osd: a T-spline model against OpenSubdiv's Catmull-Clark limit of its control
-// net (spline/subd/tspline_osd.h). It reports; it does not judge.
+// net (spline/subd/model_osd_comparison.h). It reports; it does not judge.
 #include <iostream>
 
 #include "cli/command.h"
 #include "mspline/io/spline_model_file.h"
-#include "mspline/spline/subd/tspline_osd.h"
-#include "mspline/structure/core/errors.h"
+#include "mspline/spline/subd/model_osd_comparison.h"
 #include "mspline/structure/core/stopwatch.h"
 
 namespace mspline::cli {
 
 namespace {
-
-using structure::InputError;
 
 struct CompareOsdArguments {
   std::string model;
@@ -43,30 +40,20 @@ void addCompareOsdCommand(CLI::App& app, Command& command) {
       const CompareOsdArguments& a = *arguments;
       structure::Stopwatch clock;
       const spline::SplineModel model = io::readSplineModel(a.model);
-      if (model.kind != spline::SplineKind::TSpline)
-        throw InputError(a.model +
-                         ": compare-osd needs a T-spline model (this is a triangular B-spline "
-                         "model; build one with `mspline spline --kind tspline`)");
-      const spline::TSplineSpace space(model.tmesh);
-      const int tJunctions = model.tmesh.numTJunctions(),
-                extraordinary = model.tmesh.numExtraordinary();
       const double loadSeconds = clock.lap();
       spline::OsdCompareOptions options;
       options.samples = a.samples;
       options.seed = a.seed;
-      spline::OsdComparison c;
-      try {
-        c = spline::compareWithOpenSubdiv(space, model.controlPoints, model.weights, options);
-      } catch (const InputError& e) {
-        throw InputError(a.model + ": " + e.what());
-      }
+      const spline::ModelOsdComparison result =
+          spline::compareWithOpenSubdiv(model, a.model, options);
+      const spline::OsdComparison& c = result.comparison;
       const double compareSeconds = clock.lap();
       Json report{{"file", a.model},
                   {"kind", "tspline"},
-                  {"tmesh_faces", model.tmesh.numFaces()},
-                  {"control_points", space.numBasis()},
-                  {"t_junctions", tJunctions},
-                  {"extraordinary_points", extraordinary},
+                  {"tmesh_faces", result.tmeshFaces},
+                  {"control_points", result.controlPoints},
+                  {"t_junctions", result.tJunctions},
+                  {"extraordinary_points", result.extraordinaryPoints},
                   {"regular_faces", c.regularFaces},
                   {"irregular_faces", c.irregularFaces},
                   {"faces_without_surface", c.facesWithoutSurface},

@@ -16,13 +16,15 @@
 #include <imgui.h>
 
 #include "mspline/io/error_map.h"
+#include "mspline/io/export_model.h"
 #include "mspline/io/raster_image.h"
 #include "mspline/io/read_mesh.h"
 #include "mspline/io/spline_model_file.h"
-#include "mspline/io/write_mesh.h"
+#include "mspline/spline/model/filled_faces.h"
 #include "mspline/spline/tribspline/tessellate.h"
-#include "mspline/structure/mesh/closest_point.h"
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/mesh/closest_point.h"
+#include "mspline/structure/mesh/polygon_soup.h"
 #include "mspline/viewer/controller.h"
 #include "mspline/viewer/edit_script.h"
 #include "mspline/viewer/edit_session.h"
@@ -54,22 +56,11 @@ PlainMesh readPlainMesh(const std::string& path) {
   if (read.soup.faces.empty()) throw structure::InputError(path + ": the mesh has no faces");
   PlainMesh out{path, {}};
   MeshGeometry& g = out.geometry;
-  const auto n = Eigen::Index(read.soup.positions.size());
-  g.positions.resize(n, 3);
-  g.normals.resize(n, 3);
-  const auto normals = spline::vertexNormalsOfMesh(read.soup);
-  for (Eigen::Index v = 0; v < n; ++v)
-    for (int c = 0; c < 3; ++c) {
-      g.positions(v, c) = read.soup.positions[std::size_t(v)][std::size_t(c)];
-      g.normals(v, c) = normals[std::size_t(v)][std::size_t(c)];
-    }
-  for (std::size_t f = 0; f < read.soup.faces.size(); ++f) {
-    const auto& face = read.soup.faces[f];
-    g.triangles.push_back({int(face[0]), int(face[1]), int(face[2])});
-    if (read.soup.cornerUVs.size() == read.soup.faces.size())
-      g.cornerUVs.push_back(
-          {read.soup.cornerUVs[f][0], read.soup.cornerUVs[f][1], read.soup.cornerUVs[f][2]});
-  }
+  g.positions = structure::pointMatrix(read.soup.positions);
+  g.normals = structure::pointMatrix(spline::vertexNormalsOfMesh(read.soup));
+  g.triangles = structure::triangleIndices(read.soup);
+  if (read.soup.cornerUVs.size() == read.soup.faces.size())
+    for (const auto& uv : read.soup.cornerUVs) g.cornerUVs.push_back({uv[0], uv[1], uv[2]});
   return out;
 }
 
@@ -78,13 +69,12 @@ MeshGeometry surfaceGeometry(const EditSession& session) {
   const spline::ModelTessellation& t = session.tessellation();
   g.positions = session.positions();
   g.normals = session.normals();
+  g.triangles = structure::triangleIndices(t.mesh);
   const bool corners = t.mesh.cornerUVs.size() == t.mesh.faces.size();
-  for (std::size_t f = 0; f < t.mesh.faces.size(); ++f) {
-    const auto& face = t.mesh.faces[f];
-    g.triangles.push_back({int(face[0]), int(face[1]), int(face[2])});
+  for (std::size_t f = 0; f < g.triangles.size(); ++f) {
     std::array<std::array<double, 2>, 3> uv{};
     for (std::size_t k = 0; k < 3; ++k)
-      uv[k] = corners ? t.mesh.cornerUVs[f][k] : t.uvs[std::size_t(face[k])];
+      uv[k] = corners ? t.mesh.cornerUVs[f][k] : t.uvs[std::size_t(g.triangles[f][k])];
     g.cornerUVs.push_back(uv);
   }
   return g;
@@ -244,6 +234,8 @@ class Viewer {
       throw structure::InputError("view: -o needs a .msp model to save");
     if (!options_.apply.empty() && !session_)
       throw structure::InputError("view: --apply needs a .msp model to edit");
+    if (session_ && scan_)
+      keptFaces_ = spline::facesToKeep(session_->tessellation().mesh, session_->model());
     if (!options_.apply.empty())
       script_ = readEditScript(options_.apply, int(session_->model().controlPoints.rows()));
     const Eigen::MatrixX3d& shown = session_ ? session_->positions() : scan_->geometry.positions;
@@ -341,9 +333,12 @@ class Viewer {
   void updateErrorMap() {
     if (!scan_ || !session_ || !display_.errors || session_->dragging()) return;
     if (errorState_ == session_->state() && !errorColors_.empty()) return;
+    // As `mspline export --error-map`: against the surface over the scan, the fills trimmed.
+    const std::vector<std::array<int, 3>> all =
+        structure::triangleIndices(session_->tessellation().mesh);
     std::vector<std::array<int, 3>> triangles;
-    for (const auto& face : session_->tessellation().mesh.faces)
-      triangles.push_back({int(face[0]), int(face[1]), int(face[2])});
+    for (std::size_t f = 0; f < all.size(); ++f)
+      if (keptFaces_[f]) triangles.push_back(all[f]);
     const structure::TriangleMeshDistance distance(session_->positions(), std::move(triangles));
     const io::ErrorMap map = io::errorMap(scan_->geometry.positions, distance);
     errorColors_ = map.colors;
@@ -564,19 +559,20 @@ class Viewer {
     }
   }
 
+  // As `mspline export`: the edited model at the shown resolution or the one the tolerance asks
+  // for, the fills trimmed.
   void exportSurface() {
     try {
-      structure::PolygonSoup soup = session_->tessellation().mesh;
-      io::VertexAttributes attributes;
-      for (Eigen::Index v = 0; v < session_->positions().rows(); ++v) {
-        soup.positions[std::size_t(v)] = {session_->positions()(v, 0), session_->positions()(v, 1),
-                                          session_->positions()(v, 2)};
-        attributes.normals.push_back(
-            {session_->normals()(v, 0), session_->normals()(v, 1), session_->normals()(v, 2)});
-      }
-      soup.cornerUVs.clear();
-      io::writeMesh(exportPath_, soup, attributes);
-      status_ = std::string("exported ") + exportPath_;
+      io::ExportFileOptions options;
+      options.output = exportPath_;
+      options.surface.resolution = options_.resolution;
+      options.surface.tolerance = std::max(0.0, exportTolerance_);
+      const spline::ExportResult exported =
+          io::exportModel(session_->model(), session_->path(), options).surface;
+      status_ = std::string("exported ") + exportPath_ + " (resolution " +
+                std::to_string(exported.resolution) + ", " +
+                std::to_string(exported.surface.mesh.faces.size()) + " triangles, " +
+                std::to_string(exported.trimmedFaces) + " over fills trimmed)";
     } catch (const std::exception& e) {
       status_ = std::string("export failed: ") + e.what();
     }
@@ -636,6 +632,7 @@ class Viewer {
       ImGui::InputText("##export", exportPath_, sizeof exportPath_);
       ImGui::SameLine();
       if (ImGui::Button("export")) exportSurface();
+      ImGui::InputDouble("export tolerance", &exportTolerance_, 0.0, 0.0, "%.1e");
       if (!status_.empty()) ImGui::TextWrapped("%s", status_.c_str());
     }
     ImGui::End();
@@ -692,6 +689,11 @@ class Viewer {
   bool askOnClose_ = false;
   std::string status_;
   char exportPath_[512] = "surface.obj";
+  // Chord tolerance of the export, relative to the model's diagonal; 0: the shown resolution.
+  double exportTolerance_ = 0.0;
+  // Per tessellation face, 1 when it lies over the scan (not over a fill), as first shown: the
+  // error map's.
+  std::vector<char> keptFaces_;
 };
 
 }  // namespace

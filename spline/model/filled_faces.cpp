@@ -121,6 +121,13 @@ void dropBowTies(const structure::PolygonSoup& soup, std::vector<char>& keep) {
   }
 }
 
+std::vector<char> facesToKeep(const structure::PolygonSoup& tessellation,
+                              const SplineModel& model) {
+  std::vector<char> keep = facesOverScan(tessellation, model);
+  dropBowTies(tessellation, keep);
+  return keep;
+}
+
 std::vector<int> keepFaces(structure::PolygonSoup& soup, const std::vector<char>& keep) {
   MSPLINE_ASSERT(keep.size() == soup.faces.size(), "keepFaces: one flag per face");
   std::vector<int> newIndex(soup.positions.size(), -1);

@@ -29,6 +29,11 @@ std::vector<char> facesOverScan(const structure::PolygonSoup& tessellation,
 /// largest fan go. Trimming along a jagged line can leave such bow-ties.
 void dropBowTies(const structure::PolygonSoup& soup, std::vector<char>& keep);
 
+/// Per face of `tessellation` (triangles of the evaluated surface of `model`) 1 when it stays
+/// once the fills are trimmed: facesOverScan less the bow-ties that dropping the others would
+/// leave (dropBowTies).
+std::vector<char> facesToKeep(const structure::PolygonSoup& tessellation, const SplineModel& model);
+
 /// Keeps the faces of `soup` marked in `keep` and the vertices they use (renumbered in order, with
 /// their per-corner UVs); returns per old vertex its new index or -1.
 std::vector<int> keepFaces(structure::PolygonSoup& soup, const std::vector<char>& keep);

@@ -1,5 +1,7 @@
 #include "mspline/structure/mesh/bounding_box.h"
 
+#include "mspline/structure/mesh/polygon_soup.h"
+
 namespace mspline::structure {
 
 double boundingBoxDiagonal(const Eigen::MatrixX3d& points) {
@@ -8,10 +10,7 @@ double boundingBoxDiagonal(const Eigen::MatrixX3d& points) {
 }
 
 double boundingBoxDiagonal(const std::vector<std::array<double, 3>>& points) {
-  Eigen::MatrixX3d rows(Eigen::Index(points.size()), 3);
-  for (std::size_t i = 0; i < points.size(); ++i)
-    rows.row(Eigen::Index(i)) << points[i][0], points[i][1], points[i][2];
-  return boundingBoxDiagonal(rows);
+  return boundingBoxDiagonal(pointMatrix(points));
 }
 
 double boundingBoxDiagonal(const TriMesh& mesh) {

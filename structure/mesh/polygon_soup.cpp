@@ -31,6 +31,24 @@ std::string describeFace(const PolygonSoup& soup, std::size_t f) {
 
 }  // namespace
 
+std::vector<std::array<int, 3>> triangleIndices(const PolygonSoup& soup) {
+  std::vector<std::array<int, 3>> triangles;
+  triangles.reserve(soup.faces.size());
+  for (std::size_t f = 0; f < soup.faces.size(); ++f) {
+    const auto& face = soup.faces[f];
+    if (face.size() != 3) throw InputError(describeFace(soup, f) + " is not a triangle");
+    triangles.push_back({int(face[0]), int(face[1]), int(face[2])});
+  }
+  return triangles;
+}
+
+Eigen::MatrixX3d pointMatrix(const std::vector<std::array<double, 3>>& points) {
+  Eigen::MatrixX3d rows(Eigen::Index(points.size()), 3);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    rows.row(Eigen::Index(i)) << points[i][0], points[i][1], points[i][2];
+  return rows;
+}
+
 std::size_t triangulatePolygons(PolygonSoup& soup) {
   std::size_t polygons = 0;
   std::size_t triangles = 0;

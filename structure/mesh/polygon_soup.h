@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "mspline/structure/mesh/tri_mesh.h"
 
 namespace mspline::structure {
@@ -25,6 +27,13 @@ struct PolygonSoup {
 /// Splits every face with more than 3 vertices into a fan of triangles around its first
 /// vertex, splitting cornerUVs alike; returns how many faces were split.
 std::size_t triangulatePolygons(PolygonSoup& soup);
+
+/// The faces of a soup of triangles as index triples, the form TriangleMeshDistance, renderShaded
+/// and the viewer take. Throws InputError naming the source when a face is not a triangle.
+std::vector<std::array<int, 3>> triangleIndices(const PolygonSoup& soup);
+
+/// Points as the rows of a matrix.
+Eigen::MatrixX3d pointMatrix(const std::vector<std::array<double, 3>>& points);
 
 /// Builds a TriMesh from a soup whose faces are triangles and which passed validation.
 /// Throws TopologyError naming the source and the face if OpenMesh cannot add a face.

@@ -17,6 +17,7 @@
 #include "mspline/io/spline_model_file.h"
 #include "mspline/spline/tspline/tspline.h"
 #include "mspline/structure/mesh/closest_point.h"
+#include "mspline/structure/mesh/polygon_soup.h"
 #include "support/test_data.h"
 
 using mspline::test::realMeshPath;
@@ -136,9 +137,7 @@ TEST_CASE("export: PLY with normals, STL, and a T-spline model", "[cli]") {
   }
   const auto read = io::readMesh(dir + "/s.ply");
   REQUIRE(read.soup.positions.size() == vertices);
-  std::vector<std::array<int, 3>> faces;
-  for (const auto& f : read.soup.faces) faces.push_back({int(f[0]), int(f[1]), int(f[2])});
-  CHECK(agreeingNormals(positions, faces, normals) > 0.999);
+  CHECK(agreeingNormals(positions, structure::triangleIndices(read.soup), normals) > 0.999);
   const auto info = runJson("info " + dir + "/s.ply");
   CHECK(info["closed"] == true);
   CHECK(info["problems"].empty());

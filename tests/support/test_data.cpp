@@ -1,15 +1,19 @@
 #include "support/test_data.h"
 
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <catch2/catch.hpp>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "mspline/io/load_mesh.h"
+#include "mspline/io/spline_model_file.h"
 
 namespace mspline::test {
 
@@ -84,6 +88,21 @@ std::string fitModel(const std::string& meshName, const std::string& kind, const
   INFO("fit " << meshName << " " << kind << ": " << fit.err);
   REQUIRE(fit.exitCode == 0);
   return path;
+}
+
+const spline::SplineModel& fittedModel(const std::string& meshName, const std::string& kind,
+                                       const std::string& arguments) {
+  static std::map<std::string, spline::SplineModel> models;
+  const std::string key =
+      meshName + "-" + kind + "-" + std::to_string(std::hash<std::string>()(arguments));
+  const auto found = models.find(key);
+  if (found != models.end()) return found->second;
+  // Test processes run in parallel: a directory of this process's own, gone once read.
+  const std::string dir = scratchDirectory("fitted_" + key + "_" + std::to_string(getpid()));
+  spline::SplineModel& model = models[key] =
+      io::readSplineModel(fitModel(meshName, kind, dir + "/model.msp", arguments));
+  fs::remove_all(dir);
+  return model;
 }
 
 }  // namespace mspline::test

@@ -3,6 +3,7 @@
 #include <nlohmann/json_fwd.hpp>
 #include <string>
 
+#include "mspline/spline/core/spline_model.h"
 #include "mspline/structure/mesh/tri_mesh.h"
 
 namespace mspline::test {
@@ -42,5 +43,10 @@ std::string fitModel(const std::string& meshName, const std::string& kind, const
                      const std::string& arguments =
                          "--control 300 --max-control 500 --rounds 1 "
                          "--max-refinements 0");
+
+/// The model fitModel fits with these arguments, read back: fitted once per test executable, so
+/// the tests that use the same small model share one fit.
+const spline::SplineModel& fittedModel(const std::string& meshName, const std::string& kind,
+                                       const std::string& arguments);
 
 }  // namespace mspline::test

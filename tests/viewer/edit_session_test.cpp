@@ -9,6 +9,8 @@
 #include "mspline/io/spline_model_file.h"
 #include "mspline/spline/model/model_surface.h"
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/mesh/bounding_box.h"
+#include "mspline/structure/mesh/polygon_soup.h"
 #include "support/test_data.h"
 
 using namespace mspline;
@@ -25,15 +27,7 @@ std::string model(const std::string& dir, const std::string& mesh, const std::st
 Eigen::MatrixX3d tessellationPositions(const spline::SplineModel& m, int resolution) {
   const spline::ModelSurface surface(m, "model");
   const spline::ModelTessellation t = surface.tessellate(m.controlPoints, resolution);
-  Eigen::MatrixX3d out(Eigen::Index(t.mesh.positions.size()), 3);
-  for (std::size_t v = 0; v < t.mesh.positions.size(); ++v)
-    out.row(Eigen::Index(v)) << t.mesh.positions[v][0], t.mesh.positions[v][1],
-        t.mesh.positions[v][2];
-  return out;
-}
-
-double diagonal(const Eigen::MatrixX3d& p) {
-  return (p.colwise().maxCoeff() - p.colwise().minCoeff()).norm();
+  return structure::pointMatrix(t.mesh.positions);
 }
 
 }  // namespace
@@ -46,7 +40,7 @@ TEST_CASE("edit_session: moving control points re-evaluates their supports exact
     const std::string path = model(dir, mesh, kind);
     EditSession session(io::readSplineModel(path), path, {4});
     const Eigen::MatrixX3d before = session.positions();
-    const double size = diagonal(before);
+    const double size = structure::boundingBoxDiagonal(before);
     std::mt19937 random(7);
     const int rows = int(session.model().controlPoints.rows());
     for (int trial = 0; trial < 3; ++trial) {
@@ -132,7 +126,7 @@ TEST_CASE("edit_session: 150 edits undo to the original bits and redo to the edi
   CHECK(session.model().controlPoints == original);  // bit for bit
   CHECK(!session.modified());
   CHECK((session.positions() - originalPositions).cwiseAbs().maxCoeff() <=
-        1e-12 * diagonal(originalPositions));
+        1e-12 * structure::boundingBoxDiagonal(originalPositions));
   while (session.canRedo()) session.redo();
   CHECK(session.model().controlPoints == edited);
   CHECK(session.positions() == editedPositions);

@@ -15,6 +15,8 @@
 #include "mspline/spline/tribspline/tri_bspline_fit_space.h"
 #include "mspline/spline/tspline/tspline.h"
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/mesh/bounding_box.h"
+#include "mspline/structure/mesh/polygon_soup.h"
 #include "support/test_data.h"
 #include "support/test_tmeshes.h"
 
@@ -23,30 +25,11 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-using Points = std::vector<std::array<double, 3>>;
-
-Eigen::MatrixX3d matrixOf(const Points& points) {
-  Eigen::MatrixX3d m(Eigen::Index(points.size()), 3);
-  for (std::size_t i = 0; i < points.size(); ++i)
-    m.row(Eigen::Index(i)) << points[i][0], points[i][1], points[i][2];
-  return m;
-}
-
-double diagonal(const Eigen::MatrixX3d& points) {
-  return (points.colwise().maxCoeff() - points.colwise().minCoeff()).norm();
-}
-
 // A small model of `kind` (tspline, tribspline, subd) fitted to head.off by `mspline fit`, once per
 // kind: 3 holes filled for the fit, 4 cones (T-spline: holes around them, collapsed edges, and
 // T-junctions from adaptive refinement).
 const spline::SplineModel& headModel(const std::string& kind) {
-  static std::map<std::string, spline::SplineModel> models;
-  const auto found = models.find(kind);
-  if (found != models.end()) return found->second;
-  const std::string dir = test::scratchDirectory("spline_model_surface_" + kind);
-  const std::string path =
-      test::fitModel("head.off", kind, dir + "/head.msp", "--control 300 --max-control 500");
-  return models[kind] = io::readSplineModel(path);
+  return test::fittedModel("head.off", kind, "--control 300 --max-control 500");
 }
 
 // A T-spline on the surface of a cube (8 extraordinary vertices: holes) with random weights.
@@ -115,8 +98,8 @@ void checkSamples(const spline::SplineModel& model, int resolution) {
   REQUIRE(s.value.cols() == surface.numControlPoints());
   REQUIRE(s.isMean.size() == std::size_t(n));
   const Eigen::MatrixXd& c = model.controlPoints;
-  const Eigen::MatrixX3d x = matrixOf(t.mesh.positions);
-  const double scale = diagonal(x);
+  const Eigen::MatrixX3d x = structure::pointMatrix(t.mesh.positions);
+  const double scale = structure::boundingBoxDiagonal(x);
 
   // (a) value * C is the tessellation.
   const Eigen::MatrixXd y = s.value * c;
@@ -182,7 +165,8 @@ void checkLocalEdit(const spline::SplineModel& model, int row, int resolution) {
   const spline::ModelSurface surface(model, "model.msp");
   const spline::ModelTessellation before = surface.tessellate(model.controlPoints, resolution);
   const Eigen::SparseMatrix<double> byColumn = surface.samples(before).value;
-  const double scale = diagonal(matrixOf(before.mesh.positions));
+  const double scale =
+      structure::boundingBoxDiagonal(structure::pointMatrix(before.mesh.positions));
   const Eigen::Vector3d move = 0.01 * scale * Eigen::Vector3d(1.0, -2.0, 2.0) / 3.0;
   Eigen::MatrixXd moved = model.controlPoints;
   moved.row(row) += move.transpose();
@@ -194,7 +178,8 @@ void checkLocalEdit(const spline::SplineModel& model, int row, int resolution) {
     REQUIRE(after.samplePoints[k].face == before.samplePoints[k].face);
     REQUIRE(after.samplePoints[k].position == before.samplePoints[k].position);
   }
-  const Eigen::MatrixX3d change = matrixOf(after.mesh.positions) - matrixOf(before.mesh.positions);
+  const Eigen::MatrixX3d change =
+      structure::pointMatrix(after.mesh.positions) - structure::pointMatrix(before.mesh.positions);
   Eigen::MatrixX3d predicted = Eigen::MatrixX3d::Zero(change.rows(), 3);
   int inColumn = 0, visible = 0, movedMeans = 0;
   for (Eigen::SparseMatrix<double>::InnerIterator it(byColumn, row); it; ++it) {
