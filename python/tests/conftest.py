@@ -1,0 +1,42 @@
+"""Fixtures of the mspline Python tests: the meshes, the mspline executable, a fitted model.
+
+MSPLINE_DATA_DIR (the folder of the .off meshes) and MSPLINE_CLI (the mspline executable) are set
+by ctest; run by hand, they default to the repository's data/meshes and build/cli/mspline.
+"""
+
+import os
+import pathlib
+import subprocess
+
+import pytest
+
+REPOSITORY = pathlib.Path(__file__).resolve().parents[2]
+# A small budget and one refinement keep a fit of eight.off to about a second.
+FIT_ARGUMENTS = {"max_control": 800, "max_refinements": 1}
+
+
+def cli_options(options):
+    """The mspline fit options of Python keyword arguments."""
+    return [f"--{name.replace('_', '-')}={value}" for name, value in options.items()]
+
+
+@pytest.fixture(scope="session")
+def data_dir():
+    return pathlib.Path(os.environ.get("MSPLINE_DATA_DIR", REPOSITORY / "data" / "meshes"))
+
+
+@pytest.fixture(scope="session")
+def cli():
+    path = pathlib.Path(os.environ.get("MSPLINE_CLI", REPOSITORY / "build" / "cli" / "mspline"))
+    if not path.exists():
+        pytest.fail(f"the mspline executable is not at {path} (set MSPLINE_CLI)")
+    return path
+
+
+@pytest.fixture(scope="session")
+def eight_msp(cli, data_dir, tmp_path_factory):
+    """eight.off fitted by `mspline fit` (a T-spline with FIT_ARGUMENTS)."""
+    path = tmp_path_factory.mktemp("cli") / "eight.msp"
+    subprocess.run([str(cli), "fit", str(data_dir / "eight.off"), "-o", str(path), "--quiet",
+                    *cli_options(FIT_ARGUMENTS)], check=True)
+    return path
