@@ -3,11 +3,12 @@
 #include <iostream>
 
 #include "cli/command.h"
-#include "cli/flatten_pipeline.h"
+#include "cli/flatten_options.h"
 #include "mspline/io/atlas_file.h"
 #include "mspline/io/load_mesh.h"
 #include "mspline/structure/atlas/affine_atlas.h"
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/core/stopwatch.h"
 
 namespace mspline::cli {
 
@@ -52,18 +53,16 @@ void addAtlasCommand(CLI::App& app, Command& command) {
     command.name = "atlas";
     command.run = [&command, arguments] {
       const AtlasArguments& a = *arguments;
-      auto progress = [&](const std::string& line) {
-        if (!a.settings.quiet) std::cerr << "atlas: " << line << std::endl;
-      };
+      const Progress progress = progressLines("atlas", a.settings.quiet);
       Stopwatch clock;
       Json stages;
       io::LoadedMesh loaded = io::loadMesh(a.mesh);
       stages["load"] = clock.lap();
-      Json flat;
-      const Flattening flattening =
-          flattenMesh(*loaded.mesh, a.mesh, a.settings, command, flat, stages, progress);
+      const FlattenOptions options = toFlattenOptions(a.settings, a.mesh);
+      const Flattening flattening = flattenSurface(*loaded.mesh, options, progress);
+      const Json flat = flatteningJson(flattening, options, stages, command);
       clock.lap();
-      progress("building the atlas");
+      structure::report(progress, "building the atlas");
       const AffineAtlas atlas =
           buildAffineAtlas(flattening.surface(), flattening.flatLengths, flattening.layout);
       stages["atlas"] = clock.lap();

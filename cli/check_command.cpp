@@ -7,11 +7,11 @@
 #include <random>
 
 #include "cli/command.h"
-#include "cli/flatten_pipeline.h"
 #include "mspline/io/spline_model_file.h"
 #include "mspline/spline/tribspline/tri_bspline.h"
 #include "mspline/spline/tspline/tspline_check.h"
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/core/stopwatch.h"
 
 namespace mspline::cli {
 

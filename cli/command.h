@@ -5,6 +5,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "mspline/structure/core/progress.h"
+
 namespace mspline::cli {
 
 using Json = nlohmann::ordered_json;
@@ -44,5 +46,9 @@ void addViewCommand(CLI::App& app, Command& command);
 
 /// Prints one JSON object on stdout.
 void printJson(const Json& object);
+
+/// Progress as lines "<command>: <message>" on stderr, one per message (a stage reported at
+/// fraction 1); nothing when `quiet`.
+structure::Progress progressLines(const std::string& command, bool quiet);
 
 }  // namespace mspline::cli

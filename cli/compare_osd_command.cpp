@@ -3,10 +3,10 @@
 #include <iostream>
 
 #include "cli/command.h"
-#include "cli/flatten_pipeline.h"
 #include "mspline/io/spline_model_file.h"
 #include "mspline/spline/subd/tspline_osd.h"
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/core/stopwatch.h"
 
 namespace mspline::cli {
 
@@ -41,7 +41,7 @@ void addCompareOsdCommand(CLI::App& app, Command& command) {
     command.name = "compare-osd";
     command.run = [&command, arguments] {
       const CompareOsdArguments& a = *arguments;
-      Stopwatch clock;
+      structure::Stopwatch clock;
       const spline::SplineModel model = io::readSplineModel(a.model);
       if (model.kind != spline::SplineKind::TSpline)
         throw InputError(a.model +

@@ -8,7 +8,6 @@
 #include <iostream>
 
 #include "cli/command.h"
-#include "cli/flatten_pipeline.h"
 #include "mspline/io/error_map.h"
 #include "mspline/io/read_mesh.h"
 #include "mspline/io/shaded_picture.h"
@@ -19,6 +18,7 @@
 #include "mspline/spline/tribspline/spline_domain.h"
 #include "mspline/structure/mesh/closest_point.h"
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/core/stopwatch.h"
 
 namespace mspline::cli {
 
@@ -220,7 +220,7 @@ int runExport(const ExportArguments& a, const Command& command) {
     throw structure::InputError("--control-net: '" + a.controlNet + "' must be a .obj file");
   if (!a.errorMap.empty() && io::meshFormatFromPath(a.errorMap[1]) != io::MeshFormat::Ply)
     throw structure::InputError("--error-map: '" + a.errorMap[1] + "' must be a .ply file");
-  Stopwatch clock;
+  structure::Stopwatch clock;
   const spline::SplineModel model = io::readSplineModel(a.model);
   const spline::ModelSurface modelSurface(model, a.model);
   Json report{{"file", a.model}, {"kind", modelSurface.kindName()}, {"output", a.output}};

@@ -11,7 +11,7 @@
 #include <optional>
 
 #include "cli/command.h"
-#include "cli/flatten_pipeline.h"
+#include "cli/flatten_options.h"
 #include "cli/spline_setup.h"
 #include "mspline/io/load_mesh.h"
 #include "mspline/io/spline_model_file.h"
@@ -211,9 +211,10 @@ void addFitCommand(CLI::App& app, Command& command) {
       const TopologyReport topology = capped ? analyzeTopology(mesh) : scanTopology;
       stages["load"] = clock.lap();
       progress(std::to_string(scan.n_vertices()) + " vertices loaded; atlas");
-      Json flat;
-      const Flattening flattening =
-          flattenMesh(mesh, a.scan, a.settings, command, flat, stages, progress);
+      const FlattenOptions flattenOptions = toFlattenOptions(a.settings, a.scan);
+      const Flattening flattening = flattenSurface(
+          mesh, flattenOptions, [&](const std::string& line, double) { progress(line); });
+      const Json flat = flatteningJson(flattening, flattenOptions, stages, command);
       stages["atlas"] = clock.lap();
 
       // Per vertex and face of the flattened surface (the mesh, or its common subdivision with

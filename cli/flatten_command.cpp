@@ -3,14 +3,15 @@
 #include <iostream>
 
 #include "cli/command.h"
-#include "cli/flatten_pipeline.h"
+#include "cli/flatten_options.h"
 #include "mspline/io/atomic_file.h"
 #include "mspline/io/load_mesh.h"
 #include "mspline/io/read_mesh.h"
 #include "mspline/io/write_mesh.h"
 #include "mspline/structure/core/errors.h"
-#include "mspline/structure/picture/layout_svg.h"
+#include "mspline/structure/core/stopwatch.h"
 #include "mspline/structure/mesh/polygon_soup.h"
+#include "mspline/structure/picture/layout_svg.h"
 
 namespace mspline::cli {
 
@@ -48,19 +49,17 @@ void addFlattenCommand(CLI::App& app, Command& command) {
       const FlattenArguments& a = *arguments;
       if (io::meshFormatFromPath(a.output) != io::MeshFormat::Obj)
         throw InputError(a.output + ": flatten writes per-corner UVs, which only OBJ holds");
-      auto progress = [&](const std::string& line) {
-        if (!a.settings.quiet) std::cerr << "flatten: " << line << std::endl;
-      };
+      const Progress progress = progressLines("flatten", a.settings.quiet);
       Stopwatch clock;
       Json stages;
       io::LoadedMesh loaded = io::loadMesh(a.mesh);
       const TriMesh& mesh = *loaded.mesh;
       stages["load"] = clock.lap();
-      progress(std::to_string(mesh.n_faces()) + " faces loaded; placing cones");
+      structure::report(progress, std::to_string(mesh.n_faces()) + " faces loaded; placing cones");
 
-      Json report;
-      const Flattening flat =
-          flattenMesh(mesh, a.mesh, a.settings, command, report, stages, progress);
+      const FlattenOptions options = toFlattenOptions(a.settings, a.mesh);
+      const Flattening flat = flattenSurface(mesh, options, progress);
+      Json report = flatteningJson(flat, options, stages, command);
       const TriMesh& surface = flat.surface();
       const FlatLayout& layout = flat.layout;
       clock.lap();
@@ -90,10 +89,9 @@ void addFlattenCommand(CLI::App& app, Command& command) {
       } else {
         std::cout << "converged in " << flat.flow.iterations
                   << " Newton steps, max curvature error " << flat.flow.maxCurvatureError << ", "
-                  << flat.cones.size() << " cones, " << report["flips"].get<long>()
-                  << " intrinsic flips, " << layout.flippedTriangles << " flipped triangles, "
-                  << total << " s\nwrote " << a.output << (a.svg.empty() ? "" : " and " + a.svg)
-                  << std::endl;
+                  << flat.cones.size() << " cones, " << flat.flips << " intrinsic flips, "
+                  << layout.flippedTriangles << " flipped triangles, " << total << " s\nwrote "
+                  << a.output << (a.svg.empty() ? "" : " and " + a.svg) << std::endl;
       }
       return int(kExitSuccess);
     };

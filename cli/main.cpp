@@ -11,6 +11,13 @@ void printJson(const Json& object) {
   std::cout << object.dump(2) << std::endl;
 }
 
+structure::Progress progressLines(const std::string& command, bool quiet) {
+  if (quiet) return {};
+  return [command](const std::string& stage, double fraction) {
+    if (fraction >= 1.0) std::cerr << command << ": " << stage << std::endl;
+  };
+}
+
 namespace {
 
 int reportError(const Command& command, const char* kind, const std::string& message, int code) {

@@ -6,13 +6,14 @@
 #include <optional>
 
 #include "cli/command.h"
-#include "cli/flatten_pipeline.h"
+#include "cli/flatten_options.h"
 #include "mspline/io/atlas_file.h"
 #include "mspline/io/load_mesh.h"
 #include "mspline/io/raster_image.h"
 #include "mspline/io/surface_pictures.h"
 #include "mspline/structure/atlas/affine_atlas.h"
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/core/stopwatch.h"
 #include "mspline/structure/topology/topology.h"
 
 namespace mspline::cli {
@@ -67,9 +68,7 @@ void addPictureCommand(CLI::App& app, Command& command) {
       const PictureArguments& a = *arguments;
       if (lowerExtension(a.output) != ".png")
         throw InputError(a.output + ": picture writes PNG files (.png)");
-      auto progress = [&](const std::string& line) {
-        if (!a.settings.quiet) std::cerr << "picture: " << line << std::endl;
-      };
+      const Progress progress = progressLines("picture", a.settings.quiet);
       Stopwatch clock;
       Json stages;
       Json report;
@@ -87,7 +86,8 @@ void addPictureCommand(CLI::App& app, Command& command) {
       } else {
         loaded = io::loadMesh(a.mesh);
         stages["load"] = clock.lap();
-        progress(std::to_string(loaded->mesh->n_faces()) + " faces loaded; flattening");
+        structure::report(progress,
+                          std::to_string(loaded->mesh->n_faces()) + " faces loaded; flattening");
       }
       const TriMesh& mesh = atlas ? atlas->mesh : *loaded->mesh;
       if (a.kind == "cover") {
@@ -98,7 +98,9 @@ void addPictureCommand(CLI::App& app, Command& command) {
                            std::to_string(topology.boundaryLoops) + " boundary loops)");
       }
       if (!atlas) {
-        flat = flattenMesh(mesh, a.mesh, a.settings, command, report, stages, progress);
+        const FlattenOptions options = toFlattenOptions(a.settings, a.mesh);
+        flat = flattenSurface(mesh, options, progress);
+        report = flatteningJson(*flat, options, stages, command);
         surface = &flat->surface();
       }
       const FlatLayout layout = flat ? flat->layout : layoutFlatMetric(*surface, lengths);

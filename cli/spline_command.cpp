@@ -7,7 +7,7 @@
 #include <iostream>
 
 #include "cli/command.h"
-#include "cli/flatten_pipeline.h"
+#include "cli/flatten_options.h"
 #include "cli/spline_setup.h"
 #include "mspline/io/load_mesh.h"
 #include "mspline/io/spline_model_file.h"
@@ -150,9 +150,10 @@ void addSplineCommand(CLI::App& app, Command& command) {
         throw InputError(a.mesh + ": spline needs a closed surface; this one has " +
                          std::to_string(topology.boundaryLoops) + " boundary loops");
       progress(std::to_string(mesh.n_faces()) + " faces loaded; flattening");
-      Json flat;
-      const Flattening flattening =
-          flattenMesh(mesh, a.mesh, a.settings, command, flat, stages, progress);
+      const FlattenOptions options = toFlattenOptions(a.settings, a.mesh);
+      const Flattening flattening = flattenSurface(
+          mesh, options, [&](const std::string& line, double) { progress(line); });
+      Json flat = flatteningJson(flattening, options, stages, command);
       clock.lap();
       SplineSetupSettings settings;
       settings.kind = a.kind;

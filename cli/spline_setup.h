@@ -10,8 +10,9 @@
 #include <Eigen/Core>
 
 #include "cli/command.h"
-#include "cli/flatten_pipeline.h"
 #include "mspline/spline/core/spline_model.h"
+#include "mspline/structure/core/stopwatch.h"
+#include "mspline/structure/flatten/flatten_surface.h"
 
 namespace mspline::cli {
 
@@ -51,8 +52,9 @@ struct SplineSetup {
 
 /// Builds the space of `settings.kind` on the flattened surface; adds "grid"/"basis"/"locate" or
 /// "coarsen"/"basis"/"locate" stage seconds to `stages`.
-SplineSetup setUpSpline(const SplineSetupSettings& settings, const Flattening& flattening,
-                        int genus, Json& stages, Stopwatch& clock,
+SplineSetup setUpSpline(const SplineSetupSettings& settings,
+                        const structure::Flattening& flattening, int genus, Json& stages,
+                        structure::Stopwatch& clock,
                         const std::function<void(const std::string&)>& progress);
 
 /// The diagonal of the points' bounding box.

@@ -13,7 +13,7 @@
 #include <Eigen/Dense>
 
 #include "cli/command.h"
-#include "cli/flatten_pipeline.h"
+#include "cli/flatten_options.h"
 #include "mspline/io/atomic_file.h"
 #include "mspline/io/load_mesh.h"
 #include "mspline/io/raster_image.h"
@@ -21,11 +21,12 @@
 #include "mspline/io/surface_pictures.h"
 #include "mspline/io/write_labeled_mesh.h"
 #include "mspline/structure/core/errors.h"
-#include "mspline/structure/layout/flat_torus_voronoi.h"
-#include "mspline/structure/intrinsic/intrinsic_overlay.h"
+#include "mspline/structure/core/stopwatch.h"
 #include "mspline/structure/core/surface_point.h"
-#include "mspline/structure/topology/topology.h"
+#include "mspline/structure/intrinsic/intrinsic_overlay.h"
+#include "mspline/structure/layout/flat_torus_voronoi.h"
 #include "mspline/structure/picture/torus_voronoi_svg.h"
+#include "mspline/structure/topology/topology.h"
 
 namespace mspline::cli {
 
@@ -143,9 +144,7 @@ void addVoronoiCommand(CLI::App& app, Command& command) {
         throw InputError(a.output + ": voronoi writes groups and polylines, which only OBJ holds");
       if (!a.png.empty() && (a.png.size() < 4 || a.png.compare(a.png.size() - 4, 4, ".png") != 0))
         throw InputError(a.png + ": --png writes PNG files (.png)");
-      auto progress = [&](const std::string& line) {
-        if (!a.quiet) std::cerr << "voronoi: " << line << std::endl;
-      };
+      const Progress progress = progressLines("voronoi", a.quiet);
       Stopwatch clock;
       io::LoadedMesh loaded = io::loadMesh(a.mesh);
       const TriMesh& mesh = *loaded.mesh;
@@ -162,12 +161,14 @@ void addVoronoiCommand(CLI::App& app, Command& command) {
       std::vector<SurfacePoint> sites;
       if (!random) sites = readSiteFile(a.sites, mesh);
 
-      FlattenSettings settings;
-      settings.cones = "none";
-      Json flattenReport, stages;
-      progress(std::to_string(mesh.n_faces()) + " faces loaded; flattening without cones");
-      const Flattening flat =
-          flattenMesh(mesh, a.mesh, settings, command, flattenReport, stages, progress);
+      FlattenOptions options;
+      options.cones.emplace();
+      options.name = a.mesh;
+      Json stages;
+      structure::report(progress,
+                        std::to_string(mesh.n_faces()) + " faces loaded; flattening without cones");
+      const Flattening flat = flattenSurface(mesh, options, progress);
+      flatteningJson(flat, options, stages, command);
       const TriMesh& surface = flat.surface();
       if (random)
         sites = randomSurfacePoints(surface, count, a.seed);

@@ -3,8 +3,6 @@
 // spline, fit): cones (placed, given, or none), Newton on the Ricci energy (with intrinsic flips
 // where the input degenerates), the rotation along handle loops quantized when asked, and the
 // layout, with the figures a user is shown.
-// CONTRACT (written before the implementation; the implementer may add fields and refine
-// comments, but keeps these names): FlattenOptions, Flattening, flattenSurface.
 #include <optional>
 #include <string>
 #include <utility>
@@ -25,6 +23,9 @@ namespace mspline::structure {
 enum class MetricScheme { Yamabe, Tangential, Inversive };
 enum class BoundaryShape { Free, Fixed, Rectangle };
 
+/// "yamabe", "tangential" or "inversive".
+std::string metricSchemeName(MetricScheme scheme);
+
 struct FlattenOptions {
   /// Discrete metric: vertex scaling (default), Thurston's circle packing or inversive distance.
   MetricScheme scheme = MetricScheme::Yamabe;
@@ -35,7 +36,7 @@ struct FlattenOptions {
   /// Cone curvatures multiples of pi/2 (seamless metrics), at most this many quarter turns.
   bool quantize = false;
   int maxConeQuarterTurns = 3;
-  /// Genus >= 2: all curvature in one cone.
+  /// Genus >= 2: all curvature in one cone (placed automatically; `cones` is then ignored).
   bool singleCone = false;
   /// Open surfaces: boundary lengths kept (Free), a circle (Fixed) or a rectangle.
   BoundaryShape boundary = BoundaryShape::Free;
@@ -48,14 +49,72 @@ struct FlattenOptions {
 
 /// A flat metric with cones, laid out, and how it went.
 struct Flattening {
-  // ... (see the implementation: cones, flow, overlay, surface(), flatLengths, layout,
-  // holonomy, flips, area distortion, seam rotations, per-stage seconds, converged/message)
+  /// The cones asked for (interior; boundary shapes are not listed).
+  std::vector<Cone> cones;
+  /// The solve; u has one entry per input vertex.
+  RicciResult flow;
+  /// The common subdivision when intrinsic flips were needed (then it is the surface laid out).
+  std::optional<IntrinsicOverlay> overlay;
+  /// The input mesh (owned by the caller).
+  const TriMesh* input = nullptr;
+  /// The surface laid out: the overlay when there is one, else the input. (A function, not a
+  /// pointer kept in the struct, so that moving a Flattening cannot leave it dangling.)
+  const TriMesh& surface() const { return overlay ? overlay->mesh : *input; }
+  /// Its flat edge lengths (empty when the flow did not converge).
+  Eigen::VectorXd flatLengths;
+  /// The layout of surface() (empty when the flow did not converge). It also holds the angle
+  /// distortion, the seams and, on a flat torus, the periods.
+  FlatLayout layout;
+
+  /// The plain solve on the input triangulation, when it degenerated and the flow went on with
+  /// intrinsic Delaunay flips.
+  struct PlainSolve {
+    std::string message;
+    int iterations = 0;
+  };
+  std::optional<PlainSolve> plainSolve;
+  /// Intrinsic flips made (0 without the fallback).
+  int flips = 0;
+  /// With the fallback: whether the surface (one with boundary) was doubled.
+  bool doubled = false;
+  /// With an overlay: interior edges between boundary vertices split before doubling.
+  int splitEdges = 0;
+
+  /// The handle rotations made quarter turns (quantize on a closed surface of genus >= 1). When
+  /// it did not converge the flat metric stays the conformal one and seams across handles turn by
+  /// arbitrary angles.
+  std::optional<HolonomyQuantizationResult> holonomy;
+
+  /// Per input vertex, the factor exp(2u) by which the flat metric scales area (u shifted so that
+  /// the flat metric has the input's total area): its range and mean.
+  struct AreaDistortion {
+    double min = 0.0, max = 0.0, mean = 0.0;
+  };
+  AreaDistortion areaDistortion;
+
+  /// Seams turning by a nonzero number of quarter turns, and the largest distance of a seam
+  /// rotation from a multiple of pi/2 (radians; 0 up to rounding with quantized cones).
+  struct SeamRotations {
+    int rotated = 0;
+    double maxQuarterTurnError = 0.0;
+  };
+  SeamRotations seamRotations;
+
+  /// Wall-clock seconds per stage, in order: cones, ricci_flow, ricci_flow_flips (fallback),
+  /// holonomy (quantization), layout.
+  std::vector<std::pair<std::string, double>> stageSeconds;
+
+  /// The flow converged and the layout has no flipped triangle.
+  bool converged = false;
+  /// When not converged, why (naming the surface); else the flow's message.
+  std::string message;
 };
 
 /// Flattens `mesh`. Non-convergence of the flow or a layout with flipped triangles is reported in
 /// the result (Flattening::converged false, with a message), not thrown; invalid options
-/// (a rectangle boundary on a surface with two boundary loops, cones out of range) throw InputError.
-/// `mesh` must outlive the result (Flattening::surface() may refer to it).
+/// (a rectangle boundary on a surface with two boundary loops, cones out of range) throw
+/// InputError. `mesh` must outlive the result (Flattening::surface() may refer to it). Progress:
+/// one line per step (stage names are messages, reported at fraction 1).
 Flattening flattenSurface(const TriMesh& mesh, const FlattenOptions& options = {},
                           const Progress& progress = {});
 

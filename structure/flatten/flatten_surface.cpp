@@ -1,0 +1,235 @@
+#include "mspline/structure/flatten/flatten_surface.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "mspline/structure/core/constants.h"
+#include "mspline/structure/core/errors.h"
+#include "mspline/structure/core/stopwatch.h"
+#include "mspline/structure/intrinsic/intrinsic_flattening.h"
+#include "mspline/structure/ricci/circle_packing_energy.h"
+#include "mspline/structure/ricci/cone_placement.h"
+#include "mspline/structure/ricci/vertex_scaling_energy.h"
+#include "mspline/structure/topology/topology.h"
+
+namespace mspline::structure {
+
+namespace {
+
+std::vector<Cone> chooseCones(const TriMesh& mesh, const FlattenOptions& options) {
+  if (options.cones && !options.singleCone) return *options.cones;
+  ConePlacementOptions placement;
+  placement.quantize = options.quantize;
+  placement.maxQuarterTurns = options.maxConeQuarterTurns;
+  placement.singleCone = options.singleCone;
+  placement.targetCount = options.coneCount;
+  return placeCones(mesh, placement).cones;
+}
+
+std::vector<std::vector<int>> boundaryLoops(const TriMesh& mesh) {
+  std::vector<std::vector<int>> loops;
+  std::vector<char> seen(mesh.n_halfedges(), 0);
+  for (auto h : mesh.halfedges()) {
+    if (!mesh.is_boundary(h) || seen[h.idx()]) continue;
+    auto& loop = loops.emplace_back();
+    for (auto walk = h; !seen[walk.idx()]; walk = mesh.next_halfedge_handle(walk)) {
+      seen[walk.idx()] = 1;
+      loop.push_back(mesh.from_vertex_handle(walk).idx());
+    }
+  }
+  return loops;
+}
+
+// Geodesic curvatures for a disk whose boundary is prescribed: a circle (curvature spread by
+// boundary length) or a rectangle (pi/2 at four corners a quarter of the perimeter apart).
+std::vector<Cone> boundaryShape(const TriMesh& mesh, BoundaryShape shape,
+                                const std::vector<Cone>& interiorCones) {
+  const std::string shapeName = shape == BoundaryShape::Fixed ? "fixed" : "rectangle";
+  auto loops = boundaryLoops(mesh);
+  if (loops.size() != 1)
+    throw InputError("--boundary " + shapeName +
+                     " needs a surface with exactly one boundary loop; this one has " +
+                     std::to_string(loops.size()));
+  const auto& loop = loops.front();
+  const std::size_t n = loop.size();
+  std::vector<double> arc(n + 1, 0.0);  // arc length from loop[0] to loop[i]
+  for (std::size_t i = 0; i < n; ++i) {
+    auto p = mesh.point(TriMesh::VertexHandle(loop[i]));
+    auto q = mesh.point(TriMesh::VertexHandle(loop[(i + 1) % n]));
+    arc[i + 1] = arc[i] + (q - p).norm();
+  }
+  double interior = 0.0;
+  for (const auto& cone : interiorCones) interior += cone.curvature;
+  const double total = 2.0 * kPi - interior;  // Gauss-Bonnet on a disk
+  std::vector<Cone> cones = interiorCones;
+  if (shape == BoundaryShape::Fixed) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const double before = arc[i == 0 ? n : i] - arc[i == 0 ? n - 1 : i - 1];
+      const double after = arc[i + 1] - arc[i];
+      cones.push_back({loop[i], total * 0.5 * (before + after) / arc[n]});
+    }
+    return cones;
+  }
+  if (std::abs(total - 2.0 * kPi) > 1e-12)
+    throw InputError("--boundary rectangle needs interior cones whose curvatures sum to 0");
+  for (int corner = 0; corner < 4; ++corner) {
+    const double wanted = arc[n] * corner / 4.0;
+    std::size_t best = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      if (std::abs(arc[i] - wanted) < std::abs(arc[best] - wanted)) best = i;
+    cones.push_back({loop[best], kPi / 2});
+  }
+  return cones;
+}
+
+RicciScheme makeScheme(const TriMesh& mesh, MetricScheme scheme) {
+  switch (scheme) {
+    case MetricScheme::Tangential:
+      return circlePackingScheme(mesh, thurstonPackingMetric(mesh), metricSchemeName(scheme));
+    case MetricScheme::Inversive:
+      return circlePackingScheme(mesh, inversiveDistanceMetric(mesh), metricSchemeName(scheme));
+    case MetricScheme::Yamabe:
+      break;
+  }
+  return vertexScalingScheme(mesh);
+}
+
+// exp(2u) over the input vertices, with u shifted so the flat metric has the input's total area.
+// `mesh` is the surface laid out (the input or its overlay) with its flat lengths.
+Flattening::AreaDistortion areaDistortion(const TriMesh& mesh, const Eigen::VectorXd& flatLengths,
+                                          const Eigen::VectorXd& u) {
+  auto area = [&](const Eigen::VectorXd& lengths) {
+    double sum = 0.0;
+    for (auto f : mesh.faces()) {
+      double l[3];
+      int k = 0;
+      for (auto e : mesh.fe_range(f)) l[k++] = lengths[e.idx()];
+      double s = 0.5 * (l[0] + l[1] + l[2]);
+      sum += std::sqrt(std::max(0.0, s * (s - l[0]) * (s - l[1]) * (s - l[2])));
+    }
+    return sum;
+  };
+  const double shift = 0.5 * std::log(area(edgeLengths(mesh)) / area(flatLengths));
+  Eigen::ArrayXd scale = (2.0 * (u.array() + shift)).exp();
+  return {scale.minCoeff(), scale.maxCoeff(), scale.mean()};
+}
+
+// With quantized cones every seam is a quarter-turn rotation plus a translation.
+Flattening::SeamRotations seamRotations(const FlatLayout& layout) {
+  Flattening::SeamRotations rotations;
+  double quarterTurnError = 0.0;
+  for (const auto& seam : layout.seams) {
+    const double quarters = seam.angle / (kPi / 2.0);
+    quarterTurnError = std::max(quarterTurnError, std::abs(quarters - std::round(quarters)));
+    rotations.rotated += std::round(quarters) != 0.0;
+  }
+  rotations.maxQuarterTurnError = quarterTurnError * kPi / 2.0;
+  return rotations;
+}
+
+}  // namespace
+
+std::string metricSchemeName(MetricScheme scheme) {
+  switch (scheme) {
+    case MetricScheme::Tangential:
+      return "tangential";
+    case MetricScheme::Inversive:
+      return "inversive";
+    case MetricScheme::Yamabe:
+      break;
+  }
+  return "yamabe";
+}
+
+Flattening flattenSurface(const TriMesh& mesh, const FlattenOptions& options,
+                          const Progress& progress) {
+  const std::string named = options.name.empty() ? "" : options.name + ": ";
+  Stopwatch clock;
+  Flattening out;
+  out.input = &mesh;
+  out.cones = chooseCones(mesh, options);
+  const std::vector<Cone>& cones = out.cones;
+  out.stageSeconds.emplace_back("cones", clock.lap());
+  const auto topology = analyzeTopology(mesh);
+  BoundaryCondition condition = BoundaryCondition::FixedScale;
+  std::vector<Cone> targets = cones;
+  if (!topology.closed && options.boundary != BoundaryShape::Free) {
+    condition = BoundaryCondition::PrescribedGeodesicCurvature;
+    targets = boundaryShape(mesh, options.boundary, cones);
+  }
+  CurvatureTarget target = flatTarget(mesh, targets, condition);
+  report(progress, std::to_string(cones.size()) + " cones; Newton on the " +
+                       metricSchemeName(options.scheme) + " Ricci energy");
+
+  RicciNewtonOptions newton;
+  newton.tolerance = options.tolerance / (2.0 * kPi);  // the solver counts in units of 2 pi
+  newton.maxIterations = options.maxIterations;
+  RicciResult& flow = out.flow;
+  flow = solveRicciFlow(mesh, makeScheme(mesh, options.scheme), target, newton);
+  out.stageSeconds.emplace_back("ricci_flow", clock.lap());
+  report(progress, std::to_string(flow.iterations) + " Newton steps, max curvature error " +
+                       std::to_string(flow.maxCurvatureError) + ": " + flow.message);
+
+  // Where the input triangulation degenerates, vertex scaling continues on an intrinsic
+  // triangulation kept Delaunay by Ptolemy flips, and the surface laid out is the common
+  // subdivision of the input and that triangulation.
+  if (!flow.converged && flow.status == RicciStatus::DegenerateTriangles &&
+      options.scheme == MetricScheme::Yamabe) {
+    report(progress, "the input triangulation degenerates (" + flow.message +
+                         "); retrying with intrinsic Delaunay flips" +
+                         (topology.closed ? "" : " on the doubled surface"));
+    out.plainSolve = Flattening::PlainSolve{flow.message, flow.iterations};
+    IntrinsicFlattening flipped = flattenWithFlips(mesh, target, newton);
+    flow = flipped.solve.ricci;
+    flow.u = flipped.u;
+    out.flips = flipped.solve.flips;
+    out.doubled = flipped.doubled;
+    out.stageSeconds.emplace_back("ricci_flow_flips", clock.lap());
+    if (flow.converged) {
+      out.splitEdges = flipped.splitEdges;
+      out.overlay = std::move(flipped.overlay);
+    }
+  }
+  if (!flow.converged) {
+    out.message = named + "the Ricci flow did not converge: " + flow.message;
+    return out;
+  }
+
+  out.flatLengths = out.overlay ? out.overlay->edgeLengths : flow.edgeLengths;
+  // Quantized cones make the rotations around cones quarter turns; on a closed surface with
+  // handles the rotations along the handles must be made so too.
+  if (options.quantize && topology.closed && topology.genus >= 1) {
+    report(progress,
+           "quantizing the rotation along " + std::to_string(2 * topology.genus) + " handle loops");
+    HolonomyQuantizationResult& holonomy = out.holonomy.emplace();
+    try {
+      holonomy = quantizeHolonomy(out.surface(), out.flatLengths, cones);
+    } catch (const SolverError& error) {
+      // A singular step (too few triangles to move the rotations): as non-convergence.
+      holonomy.converged = false;
+      holonomy.message = error.what();
+    }
+    out.stageSeconds.emplace_back("holonomy", clock.lap());
+    // A fixed triangulation cannot always follow the deformation (eight.off degenerates; that
+    // needs flips with point tracking): keep the conformal metric, whose seams then turn by
+    // arbitrary angles, and say so.
+    if (holonomy.converged)
+      out.flatLengths = holonomy.edgeLengths;
+    else
+      report(progress, "warning: the handle rotations stay unquantized (" + holonomy.message +
+                           "); seams across handles turn by arbitrary angles");
+  }
+  report(progress, "laying out");
+  out.layout = layoutFlatMetric(out.surface(), out.flatLengths);
+  out.stageSeconds.emplace_back("layout", clock.lap());
+  out.areaDistortion = areaDistortion(out.surface(), out.flatLengths, flow.u);
+  out.seamRotations = seamRotations(out.layout);
+  out.converged = out.layout.flippedTriangles == 0;
+  out.message = out.converged
+                    ? flow.message
+                    : named + "the layout has " + std::to_string(out.layout.flippedTriangles) +
+                          " flipped triangles";
+  return out;
+}
+
+}  // namespace mspline::structure

@@ -1,0 +1,126 @@
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "mspline/structure/core/constants.h"
+#include "mspline/structure/core/errors.h"
+#include "mspline/structure/flatten/flatten_surface.h"
+#include "mspline/structure/ricci/vertex_scaling_energy.h"
+#include "mspline/structure/topology/topology.h"
+#include "support/test_data.h"
+#include "support/test_meshes.h"
+
+using namespace mspline;
+using structure::Flattening;
+using structure::FlattenOptions;
+using structure::TriMesh;
+
+namespace {
+
+// The curvature of the flat metric, recomputed from its edge lengths: 0 away from the cones, the
+// cone's curvature at a cone.
+double maxCurvatureMiss(const Flattening& flat) {
+  const TriMesh& surface = flat.surface();
+  Eigen::VectorXd wanted = Eigen::VectorXd::Zero(surface.n_vertices());
+  for (const auto& cone : flat.cones) wanted[cone.vertex] = cone.curvature;
+  const Eigen::VectorXd curvature = structure::vertexCurvatures(surface, flat.flatLengths);
+  double miss = 0.0;
+  for (auto v : surface.vertices())
+    if (!surface.is_boundary(v))
+      miss = std::max(miss, std::abs(curvature[v.idx()] - wanted[v.idx()]));
+  return miss;
+}
+
+}  // namespace
+
+TEST_CASE("flatten_surface: genus-1 knot") {
+  const TriMesh mesh = test::realMesh("knot1.off");
+  std::vector<std::string> messages;
+  FlattenOptions options;
+  options.quantize = true;
+  options.name = "knot1.off";
+  const Flattening flat = structure::flattenSurface(
+      mesh, options, [&](const std::string& stage, double) { messages.push_back(stage); });
+  INFO(flat.message);
+  REQUIRE(flat.converged);
+  CHECK(flat.flow.converged);
+  CHECK(flat.flow.maxCurvatureError <= options.tolerance);
+  // Gauss-Bonnet: a torus carries no total curvature, so the cones' curvatures sum to 0.
+  double total = 0.0;
+  for (const auto& cone : flat.cones) total += cone.curvature;
+  CHECK(std::abs(total) < 1e-9);
+  CHECK(maxCurvatureMiss(flat) < 1e-8);
+  CHECK(flat.layout.flippedTriangles == 0);
+  CHECK(flat.layout.hasPeriods == flat.cones.empty());
+  // Quantized: both handle loops turn by quarter turns, and so does every seam.
+  REQUIRE(flat.holonomy);
+  CHECK(flat.holonomy->loops.size() == 2);
+  CHECK(flat.holonomy->converged);
+  CHECK(flat.seamRotations.maxQuarterTurnError < 1e-8);
+  CHECK(flat.areaDistortion.min <= flat.areaDistortion.mean);
+  CHECK(flat.areaDistortion.mean <= flat.areaDistortion.max);
+  CHECK(&flat.surface() == &mesh);
+  std::vector<std::string> stages;
+  for (const auto& [name, seconds] : flat.stageSeconds) stages.push_back(name);
+  CHECK(stages == std::vector<std::string>{"cones", "ricci_flow", "holonomy", "layout"});
+  CHECK(messages.back() == "laying out");
+}
+
+TEST_CASE("flatten_surface: a flat torus without cones has periods") {
+  const TriMesh mesh = test::torus(24, 12);
+  FlattenOptions options;
+  options.cones.emplace();
+  const Flattening flat = structure::flattenSurface(mesh, options);
+  REQUIRE(flat.converged);
+  CHECK(flat.cones.empty());
+  CHECK(maxCurvatureMiss(flat) < 1e-8);
+  REQUIRE(flat.layout.hasPeriods);
+  // Two independent periods span the lattice.
+  const double cross = flat.layout.periods[0].x() * flat.layout.periods[1].y() -
+                       flat.layout.periods[0].y() * flat.layout.periods[1].x();
+  CHECK(std::abs(cross) > 1e-6);
+  CHECK(!flat.holonomy);
+}
+
+TEST_CASE("flatten_surface: non-convergence is reported, not thrown") {
+  const TriMesh mesh = test::realMesh("knot1.off");
+  FlattenOptions options;
+  options.maxIterations = 1;
+  options.tolerance = 1e-14;
+  options.name = "knot1.off";
+  Flattening flat;
+  REQUIRE_NOTHROW(flat = structure::flattenSurface(mesh, options));
+  CHECK(!flat.converged);
+  CHECK(!flat.flow.converged);
+  CHECK(flat.message.rfind("knot1.off: the Ricci flow did not converge: ", 0) == 0);
+  CHECK(flat.layout.cornerUV.size() == 0);
+}
+
+TEST_CASE("flatten_surface: boundary shapes") {
+  SECTION("a fixed boundary becomes a circle") {
+    const TriMesh mesh = test::gridDisk(8);
+    FlattenOptions options;
+    options.cones.emplace();
+    options.boundary = structure::BoundaryShape::Fixed;
+    const Flattening flat = structure::flattenSurface(mesh, options);
+    REQUIRE(flat.converged);
+    CHECK(maxCurvatureMiss(flat) < 1e-8);
+    CHECK(flat.layout.flippedTriangles == 0);
+    // Geodesic curvature pi - angle, spread by boundary length: equal edges on the square's
+    // boundary give every boundary vertex the same share of 2 pi.
+    const Eigen::VectorXd curvature = structure::vertexCurvatures(mesh, flat.flatLengths);
+    const int boundaryVertices = 4 * 8;
+    for (auto v : mesh.vertices())
+      if (mesh.is_boundary(v))
+        CHECK(std::abs(curvature[v.idx()] - 2 * kPi / boundaryVertices) < 1e-8);
+  }
+  SECTION("a rectangle needs one boundary loop") {
+    const TriMesh mesh = test::cylinder(16, 4);
+    FlattenOptions options;
+    options.boundary = structure::BoundaryShape::Rectangle;
+    options.cones.emplace();
+    CHECK_THROWS_AS(structure::flattenSurface(mesh, options), structure::InputError);
+  }
+}
