@@ -10,6 +10,7 @@
 #include "mspline/structure/core/errors.h"
 #include "python/src/arrays.h"
 #include "python/src/model.h"
+#include "python/src/pipelines.h"
 
 namespace mspline::python {
 
@@ -53,6 +54,7 @@ PYBIND11_MODULE(_mspline, module) {
   module.doc() = "mspline: manifold splines on meshes (numpy arrays in and out)";
   py::register_exception_translator(&translateErrors);
   bindModel(module);
+  bindFlatten(module);
   module.def("read_mesh", &readMesh, py::arg("path"),
              "Reads and validates a mesh file (OFF, OBJ, PLY, STL): (vertices float64 (n, 3), "
              "triangles int64 (m, 3)). ValueError naming the file when it cannot be read or is "
