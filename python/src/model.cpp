@@ -142,10 +142,11 @@ spline::SurfaceProjection projectFromTriangle(const Model& self,
   FitParameter interpolated{-1, Eigen::Vector2d::Zero()};
   const auto& corners = tessellation.mesh.faces[std::size_t(hit.face)];
   for (std::size_t c = 0; c < 3; ++c) {
-    const std::size_t v = std::size_t(corners[c]);
-    const std::int64_t first = tessellation.sampleOffsets[v];
-    if (tessellation.sampleOffsets[v + 1] - first != 1) continue;
-    const FitParameter& corner = tessellation.samplePoints[std::size_t(first)];
+    const std::int64_t v = corners[c];
+    if (std::binary_search(tessellation.meanVertices.begin(), tessellation.meanVertices.end(), v))
+      continue;
+    const FitParameter& corner =
+        tessellation.samplePoints[std::size_t(tessellation.sampleOffsets[std::size_t(v)])];
     starts.push_back(corner);
     if (c == 0) interpolated.face = corner.face;
     if (corner.face == interpolated.face)

@@ -34,9 +34,17 @@ def cli():
 
 
 @pytest.fixture(scope="session")
-def eight_msp(cli, data_dir, tmp_path_factory):
-    """eight.off fitted by `mspline fit` (a T-spline with FIT_ARGUMENTS)."""
-    path = tmp_path_factory.mktemp("cli") / "eight.msp"
-    subprocess.run([str(cli), "fit", str(data_dir / "eight.off"), "-o", str(path), "--quiet",
-                    *cli_options(FIT_ARGUMENTS)], check=True)
-    return path
+def cli_fit(cli, data_dir, tmp_path_factory):
+    """`mspline fit` of eight.off with FIT_ARGUMENTS and a kind: the model file's path."""
+    paths = {}
+
+    def fit(kind):
+        if kind not in paths:
+            path = tmp_path_factory.mktemp("cli") / f"eight-{kind}.msp"
+            subprocess.run([str(cli), "fit", str(data_dir / "eight.off"), "-o", str(path),
+                            "--quiet", f"--kind={kind}", *cli_options(FIT_ARGUMENTS)],
+                           check=True)
+            paths[kind] = path
+        return paths[kind]
+
+    return fit
