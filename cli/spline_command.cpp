@@ -1,29 +1,22 @@
-// mspline spline: a manifold spline on a mesh, saved as a model file (.msp). The flat metric
-// (as flatten computes it) is coarsened into the domain triangulation; the basis lives in its
-// charts, and the control points are fitted to the mesh's vertices.
-#include <algorithm>
-#include <cmath>
-#include <functional>
+// mspline spline: a manifold spline on a mesh, saved as a model file (.msp): the mesh flattened
+// (structure/flatten/flatten_surface.h), the spline space built on it and its control points
+// fitted to the mesh in one solve (spline/model/build_spline.h).
 #include <iostream>
 
 #include "cli/command.h"
 #include "cli/flatten_options.h"
-#include "cli/spline_setup.h"
+#include "cli/spline_space_json.h"
 #include "mspline/io/load_mesh.h"
 #include "mspline/io/spline_model_file.h"
-#include "mspline/spline/fitting/control_fit.h"
-#include "mspline/spline/core/spline_model.h"
-#include "mspline/spline/tribspline/tri_bspline.h"
-#include "mspline/spline/tspline/tspline.h"
-#include "mspline/spline/fitting/tspline_fit.h"
+#include "mspline/spline/model/build_spline.h"
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/core/stopwatch.h"
+#include "mspline/structure/mesh/bounding_box.h"
 #include "mspline/structure/topology/topology.h"
 
 namespace mspline::cli {
 
 namespace {
-
-using namespace structure;
 
 struct SplineArguments {
   std::string mesh;
@@ -37,61 +30,10 @@ struct SplineArguments {
   FlattenSettings settings;
 };
 
-// The T-spline branch: a seamless grid of the flat structure (the lattice's grid on a flat torus,
-// the whole-cell rectangle layout with cones), control points fitted to the mesh.
-int buildTSpline(const SplineArguments& a, SplineSetup& setup, Json& flat, Json& stages,
-                 Stopwatch& clock, Command& command,
-                 const std::function<void(const std::string&)>& progress) {
-  spline::SplineModel& model = setup.model;
-  progress(std::to_string(model.tmesh.numFaces()) + " cells; inferring the blending functions");
-  const spline::TSplineSpace space(model.tmesh);
-  const std::vector<spline::TMeshPoint>& sites = setup.tmeshSites;
-  const Eigen::MatrixXd targetMatrix = setup.targets;
-  progress("fitting " + std::to_string(space.numBasis()) + " control points to " +
-           std::to_string(sites.size()) + " samples");
-  const spline::TSplineFitResult fit = spline::fitTSplineControlPoints(space, sites, targetMatrix);
-  model.controlPoints = fit.controlPoints;
-  model.weights = Eigen::VectorXd::Ones(space.numBasis());
-  stages["fit"] = clock.lap();
-  io::writeSplineModel(a.output, model);
-  stages["write"] = clock.lap();
-
-  const double diagonal = boxDiagonal(model.surfaceVertices);
-  double total = 0.0;
-  for (const auto& [name, seconds] : stages.items()) total += seconds.get<double>();
-  const int tJunctions = model.tmesh.numTJunctions(),
-            extraordinary = model.tmesh.numExtraordinary();
-  Json report{{"file", a.mesh},
-              {"output", a.output},
-              {"kind", a.kind},
-              {"degree", 3},
-              {"control_points", space.numBasis()},
-              {"tmesh_faces", model.tmesh.numFaces()},
-              {"t_junctions", tJunctions},
-              {"extraordinary_points", extraordinary},
-              {"missing_anchors", space.missingAnchors().size()},
-              {"grid", setup.report},
-              {"fit_rms_error", fit.rmsError / diagonal},
-              {"fit_max_error", fit.maxError / diagonal},
-              {"basis_without_samples", fit.basisWithoutSamples},
-              {"fit_samples", sites.size()},
-              {"sites_in_holes", fit.sitesInHoles},
-              {"flatten",
-               {{"converged", flat["converged"]},
-                {"max_curvature_error", flat["max_curvature_error"]},
-                {"flips", flat["flips"]},
-                {"holonomy", flat.contains("holonomy") ? flat["holonomy"] : Json()}}},
-              {"seconds", total},
-              {"stage_seconds", stages}};
-  if (command.json) {
-    printJson(report);
-  } else {
-    std::cout << space.numBasis() << " control points on " << model.tmesh.numFaces() << " cells ("
-              << extraordinary << " extraordinary points), fit error rms "
-              << fit.rmsError / diagonal << " max " << fit.maxError / diagonal
-              << " of the diagonal\nwrote " << a.output << std::endl;
-  }
-  return int(kExitSuccess);
+// Adds the build's or fit's stage seconds to the command's (a stage met again adds up).
+void addStages(Json& stages, const spline::StageSeconds& seconds) {
+  for (const auto& [name, value] : seconds)
+    stages[name] = (stages.contains(name) ? stages[name].get<double>() : 0.0) + value;
 }
 
 }  // namespace
@@ -137,74 +79,74 @@ void addSplineCommand(CLI::App& app, Command& command) {
     }
     command.run = [&command, arguments] {
       const SplineArguments& a = *arguments;
-      auto progress = [&](const std::string& line) {
+      const auto progress = [&](const std::string& line, double) {
         if (!a.settings.quiet) std::cerr << "spline: " << line << std::endl;
       };
-      Stopwatch clock;
+      structure::Stopwatch clock;
       Json stages;
       io::LoadedMesh loaded = io::loadMesh(a.mesh);
-      const TriMesh& mesh = *loaded.mesh;
+      const structure::TriMesh& mesh = *loaded.mesh;
       stages["load"] = clock.lap();
-      const TopologyReport topology = analyzeTopology(mesh);
+      const structure::TopologyReport topology = structure::analyzeTopology(mesh);
       if (!topology.closed)
-        throw InputError(a.mesh + ": spline needs a closed surface; this one has " +
-                         std::to_string(topology.boundaryLoops) + " boundary loops");
-      progress(std::to_string(mesh.n_faces()) + " faces loaded; flattening");
-      const FlattenOptions options = toFlattenOptions(a.settings, a.mesh);
-      const Flattening flattening = flattenSurface(
-          mesh, options, [&](const std::string& line, double) { progress(line); });
-      Json flat = flatteningJson(flattening, options, stages, command);
+        throw structure::InputError(a.mesh + ": spline needs a closed surface; this one has " +
+                                    std::to_string(topology.boundaryLoops) + " boundary loops");
+      progress(std::to_string(mesh.n_faces()) + " faces loaded; flattening", 1.0);
+      const structure::FlattenOptions flattenOptions = toFlattenOptions(a.settings, a.mesh);
+      const structure::Flattening flattening =
+          structure::flattenSurface(mesh, flattenOptions, progress);
+      const Json flat = flatteningJson(flattening, flattenOptions, stages, command);
+      spline::BuildSplineOptions options;
+      const bool tspline = a.kind == "tspline";
+      options.kind = tspline ? spline::SpaceKind::TSpline : spline::SpaceKind::TriBSpline;
+      options.degree = a.degree;
+      options.control = a.control;
+      options.cloudRadius = a.cloudRadius;
+      options.seed = a.seed;
+      options.grid = a.grid;
+      spline::SplineSpaceBuild build = spline::buildSpline(flattening, options, progress);
+      addStages(stages, build.stageSeconds);
+      const spline::ControlPointFit fit = spline::fitControlPoints(build, progress);
+      addStages(stages, fit.stageSeconds);
+      const spline::SplineModel& model = build.model;
       clock.lap();
-      SplineSetupSettings settings;
-      settings.kind = a.kind;
-      settings.degree = a.degree;
-      settings.control = a.control;
-      settings.cloudRadius = a.cloudRadius;
-      settings.seed = a.seed;
-      settings.grid = a.grid;
-      SplineSetup setup =
-          setUpSpline(settings, flattening, topology.genus, stages, clock, progress);
-      if (a.kind == "tspline")
-        return buildTSpline(a, setup, flat, stages, clock, command, progress);
-      spline::SplineModel& model = setup.model;
-      const spline::TriBSplineSpace space(model.domain, model.knots);
-      stages["basis"] = stages["basis"].get<double>() + clock.lap();
-      const std::vector<spline::DomainPoint>& sites = setup.domainSites;
-      const Eigen::MatrixXd targetMatrix = setup.targets;
-      progress("fitting " + std::to_string(space.numBasis()) + " control points to " +
-               std::to_string(sites.size()) + " samples");
-      const spline::ControlFitResult fit = spline::fitControlPoints(space, sites, targetMatrix);
-      model.controlPoints = fit.controlPoints;
-      stages["fit"] = clock.lap();
       io::writeSplineModel(a.output, model);
       stages["write"] = clock.lap();
 
-      const double diagonal = boxDiagonal(model.surfaceVertices);
-      const int cones = setup.report["cones"];
+      const double diagonal = structure::boundingBoxDiagonal(model.surfaceVertices);
       double total = 0.0;
       for (const auto& [name, seconds] : stages.items()) total += seconds.get<double>();
       Json report{{"file", a.mesh},
                   {"output", a.output},
                   {"kind", a.kind},
-                  {"degree", a.degree},
-                  {"control_points", space.numBasis()}};
-      report.update(setup.report);
+                  {"degree", tspline ? 3 : a.degree},
+                  {"control_points", model.controlPoints.rows()}};
+      if (tspline)
+        report.update(Json{{"tmesh_faces", model.tmesh.numFaces()},
+                           {"t_junctions", model.tmesh.numTJunctions()},
+                           {"extraordinary_points", model.tmesh.numExtraordinary()},
+                           {"missing_anchors", fit.missingAnchors},
+                           {"grid", gridJson(build.grid)}});
+      else
+        report.update(domainJson(build.domain));
       report.update(Json{{"fit_rms_error", fit.rmsError / diagonal},
                          {"fit_max_error", fit.maxError / diagonal},
                          {"basis_without_samples", fit.basisWithoutSamples},
-                         {"fit_samples", sites.size()},
-                         {"sites_at_cones", fit.sitesAtCones},
-                         {"flatten",
-                          {{"converged", flat["converged"]},
-                           {"max_curvature_error", flat["max_curvature_error"]},
-                           {"flips", flat["flips"]}}},
-                         {"seconds", total},
-                         {"stage_seconds", stages}});
+                         {"fit_samples", build.targets.rows()},
+                         {tspline ? "sites_in_holes" : "sites_at_cones", fit.samplesOutside}});
+      Json flatten{{"converged", flat["converged"]},
+                   {"max_curvature_error", flat["max_curvature_error"]},
+                   {"flips", flat["flips"]}};
+      if (tspline) flatten["holonomy"] = flat.contains("holonomy") ? flat["holonomy"] : Json();
+      report.update(Json{{"flatten", flatten}, {"seconds", total}, {"stage_seconds", stages}});
       if (command.json) {
         printJson(report);
       } else {
-        std::cout << space.numBasis() << " control points on " << model.domain.faceCount()
-                  << " domain faces (" << cones << " cones), fit error rms "
+        std::cout << model.controlPoints.rows() << " control points on "
+                  << (tspline ? model.tmesh.numFaces() : model.domain.faceCount())
+                  << (tspline ? " cells (" : " domain faces (")
+                  << (tspline ? model.tmesh.numExtraordinary() : build.domain.cones)
+                  << (tspline ? " extraordinary points)" : " cones)") << ", fit error rms "
                   << fit.rmsError / diagonal << " max " << fit.maxError / diagonal
                   << " of the diagonal\nwrote " << a.output << std::endl;
       }

@@ -78,6 +78,7 @@ Eigen::MatrixXd solveNormal(structure::SparseCholesky& cholesky,
 struct Solve {
   Eigen::MatrixXd control;
   double smoothing = 0.0, lambda = 0.0;
+  int basisWithoutSamples = 0;
 };
 
 // One least-squares solve at the given parameters; chooses the smoothing on the first call when
@@ -110,6 +111,8 @@ Solve solveAt(const FitSpace& space, const std::vector<FitParameter>& parameters
       (scale.asDiagonal() * used).colwise().sum() / std::max(scale.squaredNorm(), 1e-300);
   for (Eigen::Index k = 0; k < n; ++k)
     guess.row(k) = under[k] > 0.0 ? Eigen::RowVector3d(guess.row(k) / under[k]) : mean;
+  Solve solve;
+  solve.basisWithoutSamples = int((under.array() <= 0.0).count());
   double pull = 0.0;
   const auto system = [&](const Eigen::SparseMatrix<double>& normal, double relative,
                           double& lambda) {
@@ -121,7 +124,6 @@ Solve solveAt(const FitSpace& space, const std::vector<FitParameter>& parameters
     return matrix;
   };
 
-  Solve solve;
   solve.smoothing = smoothing;
   if (smoothing < 0.0) {
     // Hold-out validation: every eighth sample is left out of the fit and predicts.
@@ -362,6 +364,7 @@ SurfaceFitResult fitSurface(const FitSpace& space, const std::vector<FitParamete
   result.controlPoints = std::move(solve.control);
   result.smoothing = solve.smoothing;
   result.lambda = solve.lambda;
+  result.basisWithoutSamples = solve.basisWithoutSamples;
   report("done", 1.0);
   return result;
 }

@@ -56,6 +56,9 @@ struct SurfaceFitResult {
   double initialRmsError = 0.0;
   /// Samples left out because the surface is undefined at their parameters (a cone point).
   int samplesOutside = 0;
+  /// Functions of the space that no sample lies under in the last solve (held by the pull towards
+  /// the quasi-interpolant and the fairing alone).
+  int basisWithoutSamples = 0;
 };
 
 /// Reports a stage and a fraction done in [0, 1].

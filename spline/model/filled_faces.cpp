@@ -1,24 +1,26 @@
 #include "mspline/spline/model/filled_faces.h"
 
 #include <algorithm>
+#include <limits>
 
 #include "mspline/spline/subd/subd_fit_space.h"
 #include "mspline/spline/tribspline/tri_bspline.h"
 #include "mspline/spline/tspline/tspline.h"
-#include "mspline/structure/mesh/closest_point.h"
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/mesh/closest_point.h"
 
 namespace mspline::spline {
 
-Eigen::MatrixX3d surfaceVertexImages(const SplineModel& model) {
-  Eigen::MatrixX3d images = model.surfaceVertices;
-  const Eigen::Index count = images.rows();
+Eigen::MatrixX3d surfaceVertexSpline(const SplineModel& model) {
+  const Eigen::Index count = model.surfaceVertices.rows();
+  Eigen::MatrixX3d spline =
+      Eigen::MatrixX3d::Constant(count, 3, std::numeric_limits<double>::quiet_NaN());
   if (model.kind == SplineKind::TriangularBSpline) {
     const TriBSplineSpace space(model.domain, model.knots);
     for (Eigen::Index v = 0; v < count; ++v) {
       const DomainPoint& p = model.surfaceVertexLocations[std::size_t(v)];
       try {
-        images.row(v) = space.evaluate(model.controlPoints, p, 0).position.transpose();
+        spline.row(v) = space.evaluate(model.controlPoints, p, 0).position.transpose();
       } catch (const structure::InputError&) {
         // A cone point: the spline is undefined there.
       }
@@ -29,7 +31,7 @@ Eigen::MatrixX3d surfaceVertexImages(const SplineModel& model) {
       const TMeshPoint& p = model.surfaceVertexTMeshPoints[std::size_t(v)];
       const TSplinePoint point =
           space.evaluate(model.controlPoints, model.weights, p.face, p.position, 0);
-      if (point.position.allFinite()) images.row(v) = point.position.transpose();
+      if (point.position.allFinite()) spline.row(v) = point.position.transpose();
     }
   } else {
     const SubdSpace space(model.tmesh);
@@ -37,9 +39,16 @@ Eigen::MatrixX3d surfaceVertexImages(const SplineModel& model) {
       const TMeshPoint& p = model.surfaceVertexTMeshPoints[std::size_t(v)];
       Eigen::Vector3d position;
       if (space.evaluate(model.controlPoints, p.face, p.position, position))
-        images.row(v) = position.transpose();
+        spline.row(v) = position.transpose();
     }
   }
+  return spline;
+}
+
+Eigen::MatrixX3d surfaceVertexImages(const SplineModel& model) {
+  Eigen::MatrixX3d images = surfaceVertexSpline(model);
+  for (Eigen::Index v = 0; v < images.rows(); ++v)
+    if (!images.row(v).allFinite()) images.row(v) = model.surfaceVertices.row(v);
   return images;
 }
 

@@ -10,7 +10,10 @@
 namespace mspline::spline {
 
 /// The spline of `model` at each surface vertex's parameters (its T-mesh point or domain point);
-/// a vertex where the spline is undefined (a cone point) keeps its own position.
+/// NaN rows where the spline is undefined (a cone point).
+Eigen::MatrixX3d surfaceVertexSpline(const SplineModel& model);
+
+/// surfaceVertexSpline with the undefined rows replaced by the vertices' own positions.
 Eigen::MatrixX3d surfaceVertexImages(const SplineModel& model);
 
 /// Per face of `tessellation` (triangles of the evaluated surface of `model`): 1 when the face of

@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "mspline/spline/core/spline_model.h"
+#include "mspline/spline/model/build_spline.h"
+#include "mspline/spline/model/scan_errors.h"
 #include "mspline/structure/core/progress.h"
 #include "mspline/structure/flatten/flatten_surface.h"
 #include "mspline/structure/mesh/tri_mesh.h"
@@ -32,16 +34,63 @@ struct FitOptions {
   /// Parameter correction rounds per fit, refinement rounds at most.
   int correctionRounds = 3;
   int maxRefinements = 6;
+  /// Samples on fill patches (their vertices and points inside their faces) only keep the
+  /// surface near the patch where there is no scan: this weight, and they are not measured.
+  double fillWeight = 0.01;
   /// The flattening (fitScan sets quantize and maxConeQuarterTurns = 2 for tspline and subd).
   structure::FlattenOptions flatten;
+};
+
+/// One fit of a refinement loop (T-splines, triangular B-splines) or the single fit (subd).
+struct FitRound {
+  int controlPoints = 0;
+  /// RMS and maximum distance of the samples to the surface, relative to the diagonal.
+  double rmsError = 0.0, maxError = 0.0;
+  /// T-splines: faces split after this round.
+  int refinedFaces = 0;
+  double seconds = 0.0;
+};
+
+/// What the flattening reported (Flattening's figures that fit reports).
+struct FitFlattenFigures {
+  bool converged = false;
+  double maxCurvatureError = 0.0;
+  int flips = 0;
 };
 
 struct FitResult {
   /// The fitted model (control points set), ready to save or evaluate.
   SplineModel model;
-  // ... errors both ways (relative to the diagonal), rounds, reachedTolerance, withinBudget,
-  // warnings, per-stage seconds: see the implementation.
+  /// The errors both ways, relative to the scan's diagonal (measureAgainstScan of the model).
+  SurfaceErrors errors;
+  /// The scan's holes closed by fill patches (0 for a closed scan).
+  int filledHoles = 0;
+  /// The fits made, in order.
+  std::vector<FitRound> rounds;
+  /// The last fit's parameter correction rounds, smoothing weight (relative), samples where the
+  /// surface is undefined, and RMS before parameter correction (relative to the diagonal).
+  int correctionRounds = 0;
+  double smoothing = 0.0;
+  int samplesUndefined = 0;
+  double rmsBeforeCorrection = 0.0;
+  /// The space's figures: `grid` for tspline and subd, `domain` for tribspline.
+  GridFigures grid;
+  DomainFigures domain;
+  FitFlattenFigures flatten;
+  /// The RMS and maximum errors are within tolerance and maxErrorFactor * tolerance, and the
+  /// control points within the budget (a quad layout can need more).
+  bool reachedTolerance = false;
+  bool withinBudget = false;
+  /// Why the result is weaker than asked (over the budget, tolerance not reached).
+  std::vector<std::string> warnings;
+  /// Wall-clock seconds per stage: holes (when closed), the flattening's stages, the space's
+  /// (grid or coarsen, basis, locate), fit, measure.
+  StageSeconds stageSeconds;
 };
+
+/// "tspline", "tribspline" or "subd"; parseFitKind throws InputError for another name.
+std::string fitKindName(FitKind kind);
+FitKind parseFitKind(const std::string& name);
 
 /// Fits `scan` (a validated mesh; `name` in FitOptions::flatten.name names it in messages).
 /// Throws InputError / SolverError (naming the scan) when the surface cannot be flattened or the

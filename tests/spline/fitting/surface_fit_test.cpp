@@ -7,9 +7,12 @@
 #include <Eigen/Geometry>
 
 #include "mspline/spline/fitting/surface_fit.h"
+#include "mspline/spline/tribspline/tri_bspline.h"
+#include "mspline/spline/tribspline/tri_bspline_fit_space.h"
 #include "mspline/spline/tspline/tspline.h"
 #include "mspline/spline/tspline/tspline_fit_space.h"
 #include "mspline/structure/core/errors.h"
+#include "support/test_meshes.h"
 #include "support/test_tmeshes.h"
 
 using namespace mspline;
@@ -163,4 +166,76 @@ TEST_CASE("surface_fit: mismatched samples are input errors", "[spline]") {
   const spline::TSplineFitSpace fitSpace(c.space, c.weights);
   c.parameters.pop_back();
   CHECK_THROWS_AS(spline::fitSurface(fitSpace, c.parameters, c.targets), structure::InputError);
+}
+
+TEST_CASE("surface_fit: one solve at the samples' parameters recovers a triangular B-spline",
+          "[spline]") {
+  // As `spline` fits a model to its mesh: no fairing, no correction, errors at the parameters.
+  const auto domain = test::flatTorusDomain(5, 0.1);
+  const spline::TriBSplineSpace space(
+      domain, spline::placeKnotClouds(domain, spline::buildHomeCharts(domain), 3));
+  const spline::TriBSplineFitSpace fitSpace(space);
+  std::mt19937 random(4);
+  std::uniform_int_distribution<int> face(0, domain.faceCount() - 1);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const Eigen::MatrixXd truth = test::randomPoints(space.numBasis(), 7u);
+  std::vector<spline::FitParameter> parameters;
+  Eigen::MatrixX3d targets(4000, 3);
+  for (Eigen::Index s = 0; s < targets.rows(); ++s) {
+    Eigen::Vector3d b(unit(random), unit(random), unit(random));
+    parameters.push_back(spline::toFitParameter(space, {face(random), b / b.sum()}));
+    targets.row(s) = spline::evaluateFitSurface(fitSpace, truth, parameters.back()).transpose();
+  }
+  spline::SurfaceFitOptions options;
+  options.smoothing = 0.0;
+  options.correctionRounds = 0;
+  options.projectionSteps = 0;
+  const spline::SurfaceFitResult fit = spline::fitSurface(fitSpace, parameters, targets, options);
+  CHECK(fit.basisWithoutSamples == 0);
+  CHECK(fit.samplesOutside == 0);
+  CHECK(fit.rounds == 0);
+  // The parameters stay, and the error is measured there.
+  for (std::size_t k = 0; k < parameters.size(); k += 97) {
+    CHECK(fit.parameters[k].face == parameters[k].face);
+    CHECK(fit.parameters[k].position == parameters[k].position);
+  }
+  CHECK(fit.maxError < 1e-5);
+  CHECK(fit.rmsError == Approx(fit.initialRmsError));
+  CHECK((fit.controlPoints - truth).cwiseAbs().maxCoeff() < 1e-3);
+}
+
+TEST_CASE("surface_fit: functions without samples take the samples' mean", "[spline]") {
+  // Samples only in the first two columns of cells of a 6 x 6 grid: the functions of the last
+  // columns see none, and without fairing only the pull towards the quasi-interpolant holds them.
+  const spline::TSplineSpace space(spline::gridTMesh(test::unitKnots(6), test::unitKnots(6)));
+  const Eigen::VectorXd weights;
+  const spline::TSplineFitSpace fitSpace(space, weights);
+  std::mt19937 random(8);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<spline::FitParameter> parameters;
+  Eigen::MatrixX3d targets(300, 3);
+  for (Eigen::Index k = 0; k < targets.rows(); ++k) {
+    const int f = int(random() % 6u) * 6 + int(random() % 2u);
+    parameters.push_back({f, Eigen::Vector2d(unit(random), unit(random))});
+    targets.row(k) << 2.0 + unit(random), unit(random), -1.0;
+  }
+  spline::SurfaceFitOptions options;
+  options.smoothing = 0.0;
+  options.correctionRounds = 0;
+  const spline::SurfaceFitResult fit = spline::fitSurface(fitSpace, parameters, targets, options);
+  REQUIRE(fit.basisWithoutSamples > 0);
+  std::vector<char> sampled(std::size_t(space.numBasis()), 0);
+  std::vector<spline::FitBasisTerm> terms;
+  for (const auto& p : parameters) {
+    fitSpace.basisAt(p, terms, 0);
+    for (const auto& term : terms) sampled[std::size_t(term.index)] |= term.value > 0.0;
+  }
+  int without = 0;
+  const Eigen::RowVector3d mean = targets.colwise().mean();
+  for (Eigen::Index k = 0; k < space.numBasis(); ++k) {
+    if (sampled[std::size_t(k)]) continue;
+    ++without;
+    CHECK((fit.controlPoints.row(k) - mean).norm() < 1e-9);
+  }
+  CHECK(without == fit.basisWithoutSamples);
 }

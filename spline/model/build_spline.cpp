@@ -1,0 +1,274 @@
+#include "mspline/spline/model/build_spline.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "mspline/spline/tribspline/tri_bspline.h"
+#include "mspline/spline/tribspline/tri_bspline_fit_space.h"
+#include "mspline/spline/tspline/layout_tmesh.h"
+#include "mspline/spline/tspline/torus_tmesh.h"
+#include "mspline/spline/tspline/tspline.h"
+#include "mspline/spline/tspline/tspline_fit_space.h"
+#include "mspline/structure/core/stopwatch.h"
+#include "mspline/structure/layout/coarse_triangulation.h"
+#include "mspline/structure/layout/motorcycle_layout.h"
+#include "mspline/structure/topology/topology.h"
+
+namespace mspline::spline {
+
+namespace {
+
+using namespace structure;
+
+// The surface mesh as the model stores it.
+void copySurface(const TriMesh& surface, SplineModel& model) {
+  model.surfaceVertices.resize(Eigen::Index(surface.n_vertices()), 3);
+  for (const auto v : surface.vertices()) {
+    const auto& p = surface.point(v);
+    model.surfaceVertices.row(v.idx()) << p[0], p[1], p[2];
+  }
+  for (const auto f : surface.faces()) {
+    std::array<int, 3> corners{};
+    int k = 0;
+    for (const auto v : surface.fv_range(f)) corners[std::size_t(k++)] = v.idx();
+    model.surfaceFaces.push_back(corners);
+  }
+}
+
+// Interior points of a barycentric grid with enough intervals per side for `perTriangle` points.
+std::vector<Eigen::Vector3d> barycentricSamples(int perTriangle) {
+  std::vector<Eigen::Vector3d> samples;
+  if (perTriangle <= 0) return samples;
+  const int steps = int(std::ceil((std::sqrt(8.0 * perTriangle + 1.0) - 1.0) / 2.0)) + 2;
+  for (int i = 1; i < steps; ++i)
+    for (int j = 1; i + j < steps; ++j)
+      samples.emplace_back(double(steps - i - j) / steps, double(i) / steps, double(j) / steps);
+  return samples;
+}
+
+// Points inside every face (enough for the wanted samples per basis function) and their 3D
+// positions appended to `targets`; `locate` gives each its parameter.
+template <class Locate>
+void addFaceSamples(const SplineModel& model, int numBasis, double perBasis,
+                    std::vector<int>& sampleFaces, std::vector<Eigen::RowVector3d>& targets,
+                    Locate&& locate) {
+  const double faces = double(model.surfaceFaces.size());
+  const auto inside = barycentricSamples(
+      int(std::ceil((perBasis * numBasis - double(model.surfaceVertices.rows())) / faces)));
+  for (std::size_t f = 0; f < model.surfaceFaces.size(); ++f) {
+    const auto& corners = model.surfaceFaces[f];
+    for (const Eigen::Vector3d& b : inside) {
+      locate(int(f), b);
+      sampleFaces.push_back(int(f));
+      targets.push_back(b[0] * model.surfaceVertices.row(corners[0]) +
+                        b[1] * model.surfaceVertices.row(corners[1]) +
+                        b[2] * model.surfaceVertices.row(corners[2]));
+    }
+  }
+}
+
+Eigen::MatrixX3d toMatrix(const std::vector<Eigen::RowVector3d>& rows) {
+  Eigen::MatrixX3d matrix(Eigen::Index(rows.size()), 3);
+  for (std::size_t k = 0; k < rows.size(); ++k) matrix.row(Eigen::Index(k)) = rows[k];
+  return matrix;
+}
+
+// The T-spline branch: a seamless grid of the flat structure (the lattice's grid on a flat torus,
+// the whole-cell rectangle layout with cones).
+void buildTSpline(const BuildSplineOptions& s, const Flattening& flattening,
+                  SplineSpaceBuild& setup, Stopwatch& clock, const Progress& progress) {
+  const TriMesh& surface = flattening.surface();
+  std::optional<TorusTMesh> torus;
+  std::optional<structure::MotorcycleLayout> layout;
+  std::optional<LayoutTMesh> quads;
+  if (flattening.layout.hasPeriods) {
+    TorusTMeshOptions gridOptions;
+    gridOptions.targetCells = s.control;
+    if (s.grid > 0.0)
+      gridOptions.targetCells = std::max(16, int(std::lround(1.0 / (s.grid * s.grid))));
+    torus = torusTMesh(flattening.layout, gridOptions);
+    setup.grid.torus = true;
+    setup.grid.cellsAlongFirst = torus->cellsAlongFirst;
+    setup.grid.cellsAlongSecond = torus->cellsAlongSecond;
+    setup.grid.anisotropy = torus->anisotropy;
+  } else {
+    report(progress, "tracing the rectangle layout from " +
+                         std::to_string(flattening.layout.cones.size()) + " cones");
+    layout.emplace(surface, flattening.flatLengths);
+    double flatArea = 0.0;
+    for (const auto& r : layout->rectangles()) flatArea += r.width() * r.height();
+    LayoutTMeshOptions quadOptions;
+    quadOptions.cellSize =
+        s.grid > 0.0 ? s.grid * std::sqrt(flatArea) : std::sqrt(flatArea / double(s.control));
+    quads = layoutTMesh(*layout, quadOptions);
+    setup.grid.traces = layout->numTraces();
+    setup.grid.rectangles = int(layout->rectangles().size());
+    setup.grid.cellSize = quadOptions.cellSize;
+    setup.grid.maxRoundingError = quads->maxRoundingError;
+    setup.grid.anisotropy = quads->maxAnisotropy;
+  }
+  addStageSeconds(setup.stageSeconds, "grid", clock.lap());
+  const auto locate = [&](int face, const Eigen::Vector3d& barycentric) {
+    if (torus) {
+      const Eigen::MatrixXd& uv = flattening.layout.cornerUV;
+      const Eigen::Vector2d point =
+          barycentric[0] * uv.row(Eigen::Index(3 * face)).transpose() +
+          barycentric[1] * uv.row(Eigen::Index(3 * face + 1)).transpose() +
+          barycentric[2] * uv.row(Eigen::Index(3 * face + 2)).transpose();
+      return gridPoint(*torus, torus->layoutToGrid * point);
+    }
+    return layoutPoint(*layout, *quads, layout->locate(face, barycentric));
+  };
+  SplineModel& model = setup.model;
+  model.kind = SplineKind::TSpline;
+  model.degree = 3;
+  model.tmesh = torus ? torus->mesh : quads->mesh;
+  copySurface(surface, model);
+  const Eigen::Index vertexCount = model.surfaceVertices.rows();
+  model.surfaceVertexTMeshPoints.assign(std::size_t(vertexCount), TMeshPoint{});
+  std::vector<Eigen::RowVector3d> targets;
+  for (std::size_t f = 0; f < model.surfaceFaces.size(); ++f)
+    for (std::size_t k = 0; k < 3; ++k) {
+      const int v = model.surfaceFaces[f][k];
+      if (model.surfaceVertexTMeshPoints[std::size_t(v)].face >= 0) continue;
+      Eigen::Vector3d corner = Eigen::Vector3d::Zero();
+      corner[Eigen::Index(k)] = 1.0;
+      model.surfaceVertexTMeshPoints[std::size_t(v)] = locate(int(f), corner);
+    }
+  // Sample k < V is vertex k.
+  setup.tmeshSites = model.surfaceVertexTMeshPoints;
+  for (Eigen::Index v = 0; v < vertexCount; ++v) targets.push_back(model.surfaceVertices.row(v));
+  // About one control point per cell.
+  addFaceSamples(
+      model, model.tmesh.numFaces(), s.samplesPerControlPoint, setup.sampleFaces, targets,
+      [&](int f, const Eigen::Vector3d& b) { setup.tmeshSites.push_back(locate(f, b)); });
+  setup.targets = toMatrix(targets);
+  addStageSeconds(setup.stageSeconds, "locate", clock.lap());
+}
+
+void buildTriBSpline(const BuildSplineOptions& s, const Flattening& flattening,
+                     SplineSpaceBuild& setup, Stopwatch& clock, const Progress& progress) {
+  const TriMesh& surface = flattening.surface();
+  const int perFace = (s.degree + 1) * (s.degree + 2) / 2;
+  // A closed surface of genus g has F = 2 V + 4 g - 4 faces.
+  const int genus = analyzeTopology(surface).genus;
+  CoarseningOptions coarsening;
+  coarsening.separateCones = true;
+  coarsening.targetVertices = std::max(4, int((s.control / perFace + 4 - 4 * genus) / 2));
+  coarsening.density = s.density;
+  report(progress, "coarsening to " + std::to_string(coarsening.targetVertices) + " vertices");
+  const CoarseTriangulation coarse = coarsenFlatMetric(surface, flattening.flatLengths, coarsening);
+  addStageSeconds(setup.stageSeconds, "coarsen", clock.lap());
+
+  report(progress, std::to_string(coarse.faces.size()) + " domain faces; placing knot clouds");
+  SplineModel& model = setup.model;
+  model.kind = SplineKind::TriangularBSpline;
+  model.domain = domainFromCoarse(coarse);
+  const DomainPolish polish = polishDomainMetric(model.domain);
+  model.domainVertexSource = coarse.vertices;
+  model.degree = s.degree;
+  KnotCloudOptions clouds;
+  clouds.radiusFraction = s.cloudRadius;
+  clouds.seed = s.seed;
+  model.knots = placeKnotClouds(model.domain, buildHomeCharts(model.domain), s.degree, clouds);
+  addStageSeconds(setup.stageSeconds, "basis", clock.lap());
+  copySurface(surface, model);
+  for (const auto& location : coarse.fineVertices)
+    model.surfaceVertexLocations.push_back({location.face, location.barycentric});
+  setup.domainSites = model.surfaceVertexLocations;
+  std::vector<Eigen::RowVector3d> targets;
+  for (Eigen::Index v = 0; v < model.surfaceVertices.rows(); ++v)
+    targets.push_back(model.surfaceVertices.row(v));
+  addFaceSamples(model, perFace * model.domain.faceCount(), s.samplesPerControlPoint,
+                 setup.sampleFaces, targets, [&](int f, const Eigen::Vector3d& b) {
+                   const auto location = locateOnCoarse(surface, coarse, f, b);
+                   setup.domainSites.push_back({location.face, location.barycentric});
+                 });
+  setup.targets = toMatrix(targets);
+  int cones = 0;
+  for (char c : model.domain.cone) cones += c;
+  DomainFigures& figures = setup.domain;
+  figures.vertices = model.domain.vertexCount();
+  figures.faces = model.domain.faceCount();
+  figures.cones = cones;
+  figures.unremovedVertices = int(coarse.unremovedVertices.size());
+  figures.coneSeparatingVertices = coarse.separatingVertices;
+  figures.coneSides = coarse.coneSides;
+  figures.trackingError = coarse.maxTrackingError;
+  figures.flatnessBefore = polish.initialError;
+  figures.flatnessAfter = polish.finalError;
+  addStageSeconds(setup.stageSeconds, "locate", clock.lap());
+}
+
+}  // namespace
+
+void addStageSeconds(StageSeconds& stages, const std::string& name, double seconds) {
+  const auto stage = std::find_if(stages.begin(), stages.end(),
+                                  [&](const auto& entry) { return entry.first == name; });
+  if (stage == stages.end())
+    stages.emplace_back(name, seconds);
+  else
+    stage->second += seconds;
+}
+
+SplineSpaceBuild buildSpline(const Flattening& flattening, const BuildSplineOptions& options,
+                             const Progress& progress) {
+  SplineSpaceBuild build;
+  Stopwatch clock;
+  if (options.kind == SpaceKind::TriBSpline)
+    buildTriBSpline(options, flattening, build, clock, progress);
+  else
+    buildTSpline(options, flattening, build, clock, progress);
+  return build;
+}
+
+std::vector<FitParameter> tmeshFitParameters(const SplineSpaceBuild& build) {
+  std::vector<FitParameter> parameters;
+  parameters.reserve(build.tmeshSites.size());
+  for (const auto& p : build.tmeshSites) parameters.push_back({p.face, p.position});
+  return parameters;
+}
+
+ControlPointFit fitControlPoints(SplineSpaceBuild& build, const Progress& progress) {
+  ControlPointFit result;
+  Stopwatch clock;
+  // One solve at the samples' own parameters: no fairing, no parameter correction, and the
+  // errors measured where the samples are (no projection).
+  SurfaceFitOptions options;
+  options.smoothing = 0.0;
+  options.correctionRounds = 0;
+  options.projectionSteps = 0;
+  SplineModel& model = build.model;
+  SurfaceFitResult fit;
+  if (model.kind == SplineKind::TriangularBSpline) {
+    const TriBSplineSpace space(model.domain, model.knots);
+    const TriBSplineFitSpace fitSpace(space);
+    addStageSeconds(result.stageSeconds, "basis", clock.lap());
+    std::vector<FitParameter> parameters;
+    parameters.reserve(build.domainSites.size());
+    for (const auto& p : build.domainSites) parameters.push_back(toFitParameter(space, p));
+    report(progress, "fitting " + std::to_string(space.numBasis()) + " control points to " +
+                         std::to_string(parameters.size()) + " samples");
+    fit = fitSurface(fitSpace, parameters, build.targets, options);
+  } else {
+    report(progress,
+           std::to_string(model.tmesh.numFaces()) + " cells; inferring the blending functions");
+    const TSplineSpace space(model.tmesh);
+    result.missingAnchors = int(space.missingAnchors().size());
+    model.weights = Eigen::VectorXd::Ones(space.numBasis());
+    const TSplineFitSpace fitSpace(space, model.weights);
+    report(progress, "fitting " + std::to_string(space.numBasis()) + " control points to " +
+                         std::to_string(build.tmeshSites.size()) + " samples");
+    fit = fitSurface(fitSpace, tmeshFitParameters(build), build.targets, options);
+  }
+  model.controlPoints = std::move(fit.controlPoints);
+  result.rmsError = fit.rmsError;
+  result.maxError = fit.maxError;
+  result.basisWithoutSamples = fit.basisWithoutSamples;
+  result.samplesOutside = fit.samplesOutside;
+  addStageSeconds(result.stageSeconds, "fit", clock.lap());
+  return result;
+}
+
+}  // namespace mspline::spline

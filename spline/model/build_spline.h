@@ -1,0 +1,130 @@
+#pragma once
+// From a flattened surface to a spline space on it, as `spline` and `fit` build it: the T-mesh
+// of a seamless quad grid (T-splines, and subdivision surfaces on the same net) or the domain
+// triangulation with knot clouds (triangular B-splines); the surface copied into the model; and
+// the samples (the surface's vertices, then points inside its faces) with their parameters.
+// fitControlPoints then fits the control points in one solve.
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "mspline/spline/core/spline_model.h"
+#include "mspline/spline/fitting/surface_fit.h"
+#include "mspline/structure/core/progress.h"
+#include "mspline/structure/flatten/flatten_surface.h"
+
+namespace mspline::spline {
+
+/// Wall-clock seconds per stage, in the order the stages first ran.
+using StageSeconds = std::vector<std::pair<std::string, double>>;
+
+/// Adds `seconds` to the stage `name` (appended when new): a stage that runs several times (a
+/// space rebuilt while refining) reports its total.
+void addStageSeconds(StageSeconds& stages, const std::string& name, double seconds);
+
+enum class SpaceKind {
+  /// Manifold triangular B-spline on a coarsening of the flat metric.
+  TriBSpline,
+  /// Cubic T-spline on a seamless quad grid; subdivision surfaces use the same net.
+  TSpline,
+};
+
+struct BuildSplineOptions {
+  SpaceKind kind = SpaceKind::TriBSpline;
+  /// Triangular B-splines: polynomial degree (T-splines are cubic).
+  int degree = 3;
+  /// Control points wanted, about.
+  int control = 6000;
+  /// Triangular B-splines: knot cloud radius as a fraction of the smallest inradius at each
+  /// vertex, and the clouds' seed.
+  double cloudRadius = 0.3;
+  unsigned seed = 1;
+  /// T-splines: grid cell side as a fraction of sqrt(flat area); 0: from `control`, about one
+  /// cell per control point.
+  double grid = 0.0;
+  /// Wanted samples per control point: points inside the surface's faces are added where the
+  /// vertices alone give fewer (0: vertices only).
+  double samplesPerControlPoint = 3.0;
+  /// Triangular B-splines: per surface vertex, how densely the domain should sample it (empty:
+  /// uniformly in the flat metric; structure::CoarseningOptions::density).
+  Eigen::VectorXd density;
+};
+
+/// The quad grid of a T-spline space.
+struct GridFigures {
+  /// A flat torus's lattice grid (cells along both periods), else the motorcycle graph's
+  /// rectangle layout with cones (traces, rectangles, cell size, rounding).
+  bool torus = false;
+  int cellsAlongFirst = 0, cellsAlongSecond = 0;
+  int traces = 0, rectangles = 0;
+  /// Cell side in the flat metric, and the largest rounding of a rectangle side to whole cells
+  /// (motorcycle layouts).
+  double cellSize = 0.0, maxRoundingError = 0.0;
+  /// Largest ratio of a cell's sides on the surface.
+  double anisotropy = 1.0;
+};
+
+/// The domain triangulation of a triangular B-spline space.
+struct DomainFigures {
+  int vertices = 0, faces = 0, cones = 0;
+  /// Surface vertices the coarsening could not remove, vertices kept to separate cones, and
+  /// domain edges still joining two cones.
+  int unremovedVertices = 0, coneSeparatingVertices = 0, coneSides = 0;
+  /// structure::CoarseTriangulation::maxTrackingError.
+  double trackingError = 0.0;
+  /// The domain metric's largest deviation from flatness before and after polishing
+  /// (spline::polishDomainMetric).
+  double flatnessBefore = 0.0, flatnessAfter = 0.0;
+};
+
+struct SplineSpaceBuild {
+  /// The model without control points: kind, surface, and the T-mesh with the surface vertices'
+  /// T-mesh points, or the domain, knots and the surface vertices' domain points.
+  SplineModel model;
+  /// Samples: the parameters (T-mesh points or domain points by kind) and the 3D points; sample
+  /// k < V is surface vertex k, points inside faces follow.
+  std::vector<TMeshPoint> tmeshSites;
+  std::vector<DomainPoint> domainSites;
+  Eigen::MatrixX3d targets;
+  /// Per sample after the vertices, the surface face it lies in.
+  std::vector<int> sampleFaces;
+  /// The space's figures: `grid` for T-splines, `domain` for triangular B-splines.
+  GridFigures grid;
+  DomainFigures domain;
+  /// "grid", "locate" (T-splines) or "coarsen", "basis", "locate" (triangular B-splines).
+  StageSeconds stageSeconds;
+};
+
+/// Builds the space of `options.kind` on the flattened closed surface (flattening.converged).
+/// Throws InputError / SolverError when the grid or domain cannot be built.
+SplineSpaceBuild buildSpline(const structure::Flattening& flattening,
+                             const BuildSplineOptions& options = {},
+                             const structure::Progress& progress = {});
+
+/// The samples' parameters as the fitting engine takes them, for a T-spline or subdivision space
+/// built on `build.model.tmesh`.
+std::vector<FitParameter> tmeshFitParameters(const SplineSpaceBuild& build);
+
+/// One fit of the control points of a built space to its samples, as `spline` makes a model from
+/// its mesh: the fitting engine (spline/fitting/surface_fit.h) with no fairing and no parameter
+/// correction (the samples keep their parameters), errors at the samples' parameters.
+struct ControlPointFit {
+  /// RMS and maximum distance between the samples and the spline at their parameters (absolute).
+  double rmsError = 0.0, maxError = 0.0;
+  /// Basis functions that no sample lies under (held by the pull towards the quasi-interpolant).
+  int basisWithoutSamples = 0;
+  /// Samples where the spline is undefined (cone points, holes of a T-mesh), left out.
+  int samplesOutside = 0;
+  /// T-splines: anchors that could not be inferred (tspline.h, missingAnchors).
+  int missingAnchors = 0;
+  /// "fit" (and, for triangular B-splines, "basis": the space's set-up).
+  StageSeconds stageSeconds;
+};
+
+/// Sets build.model's control points (and unit weights for a T-spline) fitted to its samples.
+/// Throws SolverError when the system cannot be factored.
+ControlPointFit fitControlPoints(SplineSpaceBuild& build, const structure::Progress& progress = {});
+
+}  // namespace mspline::spline

@@ -1,0 +1,282 @@
+#include "mspline/spline/model/fit_scan.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <optional>
+
+#include "mspline/spline/fitting/surface_fit.h"
+#include "mspline/spline/subd/subd_fit_space.h"
+#include "mspline/spline/tribspline/tri_bspline.h"
+#include "mspline/spline/tribspline/tri_bspline_fit_space.h"
+#include "mspline/spline/tspline/tspline_adaptive_fit.h"
+#include "mspline/structure/core/errors.h"
+#include "mspline/structure/core/stopwatch.h"
+#include "mspline/structure/mesh/bounding_box.h"
+#include "mspline/structure/mesh/cap_holes.h"
+#include "mspline/structure/topology/topology.h"
+
+namespace mspline::spline {
+
+namespace {
+
+using namespace structure;
+
+// Per sample of `build`, its scan vertex or -1 (points inside faces, fill patch vertices), and
+// the samples' weights: `fillWeight` on fill patches.
+std::vector<int> scanSampleVertices(const SplineSpaceBuild& build,
+                                    const std::vector<char>& scanVertex,
+                                    const std::vector<char>& filledFace, double fillWeight,
+                                    Eigen::VectorXd& weights) {
+  const std::size_t count = std::size_t(build.targets.rows());
+  std::vector<int> sampleVertex(count, -1);
+  weights = Eigen::VectorXd::Ones(Eigen::Index(count));
+  for (std::size_t k = 0; k < count; ++k) {
+    const bool vertex = k < scanVertex.size();
+    const bool filled =
+        vertex ? !scanVertex[k] : filledFace[std::size_t(build.sampleFaces[k - scanVertex.size()])];
+    if (filled) weights[Eigen::Index(k)] = fillWeight;
+    if (vertex && !filled) sampleVertex[k] = int(k);
+  }
+  return sampleVertex;
+}
+
+// Per surface vertex, the mean over its one-ring of how densely the domain should sample it:
+// (distance / tolerance)^2 of the samples at scan vertices, between 1 and 64.
+Eigen::VectorXd refinementDensity(const TriMesh& surface, const std::vector<int>& sampleVertex,
+                                  const Eigen::VectorXd& distances, double tolerance) {
+  Eigen::VectorXd pointDensity = Eigen::VectorXd::Ones(Eigen::Index(surface.n_vertices()));
+  for (std::size_t k = 0; k < sampleVertex.size(); ++k) {
+    const double d = distances[Eigen::Index(k)] / tolerance;
+    if (sampleVertex[k] >= 0 && std::isfinite(d))
+      pointDensity[sampleVertex[k]] = std::clamp(d * d, 1.0, 64.0);
+  }
+  Eigen::VectorXd density = Eigen::VectorXd::Zero(Eigen::Index(surface.n_vertices()));
+  for (const auto v : surface.vertices()) {
+    double sum = pointDensity[v.idx()];
+    int count = 1;
+    for (const auto w : surface.vv_range(v)) {
+      sum += pointDensity[w.idx()];
+      ++count;
+    }
+    density[v.idx()] = sum / count;
+  }
+  return density;
+}
+
+// The space built within the control point budget.
+SplineSpaceBuild buildWithinBudget(const Flattening& flattening, const FitOptions& options,
+                                   BuildSplineOptions& build, StageSeconds& stages,
+                                   const Progress& progress) {
+  const auto buildOnce = [&] {
+    SplineSpaceBuild built = buildSpline(flattening, build, progress);
+    for (const auto& [name, seconds] : built.stageSeconds) addStageSeconds(stages, name, seconds);
+    return built;
+  };
+  SplineSpaceBuild built = buildOnce();
+  // Cones kept apart add domain vertices to triangular B-splines: the target shrinks until the
+  // budget holds, or until three smaller targets in a row give no smaller domain (the coarsening
+  // cannot go further; the result is then reported over budget).
+  const int perFace = (build.degree + 1) * (build.degree + 2) / 2;
+  for (int stuck = 0; options.kind == FitKind::TriBSpline && stuck < 3 &&
+                      perFace * built.model.domain.faceCount() > options.maxControl;) {
+    const int faces = built.model.domain.faceCount();
+    build.control = int(0.98 * build.control * options.maxControl / double(perFace * faces));
+    built = buildOnce();
+    stuck = built.model.domain.faceCount() < faces ? 0 : stuck + 1;
+  }
+  // A quad layout whose rounding had to halve the cells can come out far above the budget:
+  // coarser targets, a few times.
+  for (int attempt = 0; options.kind != FitKind::TriBSpline && attempt < 3 &&
+                        built.model.tmesh.numVertices > options.maxControl;
+       ++attempt) {
+    report(progress, std::to_string(built.model.tmesh.numVertices) +
+                         " control points are over the budget; a coarser grid");
+    build.control =
+        int(0.9 * build.control * options.maxControl / double(built.model.tmesh.numVertices));
+    built = buildOnce();
+  }
+  return built;
+}
+
+}  // namespace
+
+std::string fitKindName(FitKind kind) {
+  switch (kind) {
+    case FitKind::TSpline:
+      return "tspline";
+    case FitKind::TriBSpline:
+      return "tribspline";
+    case FitKind::Subd:
+      return "subd";
+  }
+  return "tspline";
+}
+
+FitKind parseFitKind(const std::string& name) {
+  for (const FitKind kind : {FitKind::TSpline, FitKind::TriBSpline, FitKind::Subd})
+    if (fitKindName(kind) == name) return kind;
+  throw InputError("unknown fit kind '" + name + "' (tspline, tribspline or subd)");
+}
+
+FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress& progress) {
+  FitResult result;
+  Stopwatch clock;
+  const std::string& name = options.flatten.name;
+  const TopologyReport scanTopology = analyzeTopology(scan);
+  // Holes are closed by fill patches: the spline spans them (fairing, no data) and export trims
+  // them away again.
+  std::optional<CappedSurface> capped;
+  if (!scanTopology.closed) {
+    report(progress, "closing " + std::to_string(scanTopology.boundaryLoops) + " holes");
+    capped = capHoles(scan);
+    result.filledHoles = int(capped->caps);
+    addStageSeconds(result.stageSeconds, "holes", clock.lap());
+  }
+  const TriMesh& mesh = capped ? capped->mesh : scan;
+  report(progress, std::to_string(scan.n_vertices()) + " vertices loaded; atlas");
+  FlattenOptions flattenOptions = options.flatten;
+  if (options.kind != FitKind::TriBSpline) {
+    // T-spline knot lines must survive chart changes (quarter-turn cones and holonomy), and a quad
+    // grid needs every cone angle to be at least pi.
+    flattenOptions.quantize = true;
+    flattenOptions.maxConeQuarterTurns = 2;
+  }
+  const Flattening flattening = flattenSurface(mesh, flattenOptions, progress);
+  result.flatten = {flattening.converged, flattening.flow.maxCurvatureError, flattening.flips};
+  for (const auto& [stage, seconds] : flattening.stageSeconds)
+    addStageSeconds(result.stageSeconds, stage, seconds);
+  if (!flattening.converged) throw SolverError(flattening.message);
+  clock.lap();
+
+  // Per vertex and face of the flattened surface (the mesh, or its common subdivision with the
+  // intrinsic triangulation): whether it is the scan's.
+  const TriMesh& surface = flattening.surface();
+  std::vector<char> scanVertex(surface.n_vertices(), 1), filledFace(surface.n_faces(), 0);
+  if (capped) {
+    for (std::size_t v = 0; v < scanVertex.size(); ++v)
+      scanVertex[v] = v < capped->capVertex.size() && !capped->capVertex[v];
+    for (std::size_t f = 0; f < filledFace.size(); ++f)
+      filledFace[f] = capped->capFace[std::size_t(
+          flattening.overlay ? flattening.overlay->inputFace[f] : int(f))];
+  }
+
+  BuildSplineOptions build;
+  build.kind = options.kind == FitKind::TriBSpline ? SpaceKind::TriBSpline : SpaceKind::TSpline;
+  build.control = options.control > 0 ? options.control : options.maxControl * 3 / 4;
+  SplineSpaceBuild setup =
+      buildWithinBudget(flattening, options, build, result.stageSeconds, progress);
+  clock.lap();
+  SurfaceFitOptions fitOptions;
+  fitOptions.smoothing = options.smoothing;
+  fitOptions.correctionRounds = options.correctionRounds;
+  std::vector<int> sampleVertex = scanSampleVertices(setup, scanVertex, filledFace,
+                                                     options.fillWeight, fitOptions.sampleWeights);
+  const double diagonal = boundingBoxDiagonal(scan);
+  const double tolerance = options.tolerance * diagonal;
+  const auto withinTolerance = [&](double rms, double max) {
+    return rms <= tolerance && max <= options.maxErrorFactor * tolerance;
+  };
+
+  SurfaceFitResult fit;
+  bool reached = false;
+  if (options.kind == FitKind::TSpline) {
+    TSplineAdaptiveFitOptions adaptiveOptions;
+    adaptiveOptions.tolerance = tolerance;
+    adaptiveOptions.maxErrorFactor = options.maxErrorFactor;
+    adaptiveOptions.maxControlPoints = options.maxControl;
+    adaptiveOptions.maxRefinements = options.maxRefinements;
+    adaptiveOptions.fit = fitOptions;
+    TSplineAdaptiveFitResult adaptive = fitTSplineAdaptively(
+        setup.model.tmesh, setup.tmeshSites, setup.targets, adaptiveOptions, progress);
+    setup.model.tmesh = std::move(adaptive.mesh);
+    fit = std::move(adaptive.fit);
+    reached = adaptive.reachedTolerance;
+    for (const auto& r : adaptive.rounds)
+      result.rounds.push_back(
+          {r.controlPoints, r.rmsError / diagonal, r.maxError / diagonal, r.splitFaces, r.seconds});
+    // Every surface vertex (fill patches' too) on the refined T-mesh: sample k < V is vertex k.
+    for (std::size_t v = 0; v < setup.model.surfaceVertexTMeshPoints.size(); ++v)
+      setup.model.surfaceVertexTMeshPoints[v] = adaptive.parameters[v];
+    setup.model.weights = Eigen::VectorXd::Ones(Eigen::Index(fit.controlPoints.rows()));
+  } else if (options.kind == FitKind::Subd) {
+    setup.model.kind = SplineKind::Subdivision;
+    const SubdSpace space(setup.model.tmesh);
+    const SubdFitSpace fitSpace(space);
+    fit = fitSurface(fitSpace, tmeshFitParameters(setup), setup.targets, fitOptions, progress);
+    reached = withinTolerance(fit.rmsError, fit.maxError);
+    for (std::size_t v = 0; v < setup.model.surfaceVertexTMeshPoints.size(); ++v)
+      setup.model.surfaceVertexTMeshPoints[v] = {fit.parameters[v].face,
+                                                 fit.parameters[v].position};
+    result.rounds.push_back(
+        {int(fit.controlPoints.rows()), fit.rmsError / diagonal, fit.maxError / diagonal, 0, 0.0});
+  } else {
+    // Adaptive refinement of the domain: the next domain is coarsened with more vertices where
+    // the samples are far from the surface (refinementDensity), with the whole budget.
+    for (int round = 0;; ++round) {
+      Stopwatch roundClock;
+      const TriBSplineSpace space(setup.model.domain, setup.model.knots);
+      const TriBSplineFitSpace fitSpace(space);
+      std::vector<FitParameter> parameters;
+      for (const auto& p : setup.domainSites) parameters.push_back(toFitParameter(space, p));
+      const auto roundProgress = [&](const std::string& stage, double fraction) {
+        report(progress, "round " + std::to_string(round + 1) + ": " + stage, fraction);
+      };
+      fit = fitSurface(fitSpace, parameters, setup.targets, fitOptions, roundProgress);
+      reached = withinTolerance(fit.rmsError, fit.maxError);
+      result.rounds.push_back({int(fit.controlPoints.rows()), fit.rmsError / diagonal,
+                               fit.maxError / diagonal, 0, roundClock.lap()});
+      const bool last = reached || round >= options.maxRefinements ||
+                        (round > 0 && build.control >= options.maxControl);
+      if (last) {
+        for (std::size_t v = 0; v < setup.model.surfaceVertexLocations.size(); ++v)
+          setup.model.surfaceVertexLocations[v] = toDomainPoint(space, fit.parameters[v]);
+        break;
+      }
+      build.density = refinementDensity(surface, sampleVertex, fit.distances, tolerance);
+      build.control = options.maxControl;
+      report(progress, "refining the domain where the error is above the tolerance");
+      setup = buildWithinBudget(flattening, options, build, result.stageSeconds, progress);
+      sampleVertex = scanSampleVertices(setup, scanVertex, filledFace, options.fillWeight,
+                                        fitOptions.sampleWeights);
+    }
+  }
+  SplineModel& model = setup.model;
+  model.controlPoints = std::move(fit.controlPoints);
+  if (capped) model.surfaceFaceFilled = filledFace;
+  addStageSeconds(result.stageSeconds, "fit", clock.lap());
+
+  // Honest errors: the scan's vertices to the surface (their projections), and points all over
+  // the surface to the scan.
+  report(progress, "measuring the surface against the scan");
+  ScanErrorOptions measure;
+  measure.name = name;
+  result.errors = measureAgainstScan(model, scan, measure);
+  addStageSeconds(result.stageSeconds, "measure", clock.lap());
+
+  result.reachedTolerance = reached && result.errors.rms <= options.tolerance &&
+                            result.errors.max <= options.maxErrorFactor * options.tolerance;
+  result.withinBudget = model.controlPoints.rows() <= options.maxControl;
+  if (!result.withinBudget)
+    result.warnings.push_back(
+        std::to_string(model.controlPoints.rows()) + " control points, over the budget of " +
+        std::to_string(options.maxControl) +
+        (options.kind == FitKind::TriBSpline ? " (the domain could not be coarser)"
+                                             : " (the quad layout needed smaller cells)"));
+  if (!result.reachedTolerance)
+    result.warnings.push_back("the tolerance was not reached (RMS " +
+                              std::to_string(result.errors.rms) + ", max " +
+                              std::to_string(result.errors.max) + " of the diagonal, wanted " +
+                              std::to_string(options.tolerance) + " and " +
+                              std::to_string(options.maxErrorFactor * options.tolerance) + ")");
+  result.correctionRounds = fit.rounds;
+  result.smoothing = fit.smoothing;
+  result.samplesUndefined = fit.samplesOutside;
+  result.rmsBeforeCorrection = fit.initialRmsError / diagonal;
+  result.grid = setup.grid;
+  result.domain = setup.domain;
+  result.model = std::move(model);
+  return result;
+}
+
+}  // namespace mspline::spline

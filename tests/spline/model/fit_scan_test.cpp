@@ -1,0 +1,147 @@
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "mspline/spline/model/fit_scan.h"
+#include "mspline/spline/model/scan_errors.h"
+#include "mspline/structure/core/errors.h"
+#include "support/test_data.h"
+
+using namespace mspline;
+
+namespace {
+
+// What every fit must satisfy: finite control points, the reported errors those of the model
+// measured again, the flags consistent with the numbers and the options.
+void checkFit(const spline::FitResult& fit, const structure::TriMesh& scan,
+              const spline::FitOptions& options) {
+  const spline::SplineModel& model = fit.model;
+  REQUIRE(model.controlPoints.rows() > 0);
+  CHECK(model.controlPoints.cols() == 3);
+  CHECK(model.controlPoints.allFinite());
+  const spline::SurfaceErrors again = spline::measureAgainstScan(model, scan);
+  CHECK(fit.errors.rms == Approx(again.rms).epsilon(1e-12));
+  CHECK(fit.errors.max == Approx(again.max).epsilon(1e-12));
+  CHECK(fit.errors.rmsSurfaceToScan == Approx(again.rmsSurfaceToScan).epsilon(1e-12));
+  CHECK(fit.errors.maxSurfaceToScan == Approx(again.maxSurfaceToScan).epsilon(1e-12));
+  CHECK(fit.errors.measured == again.measured);
+  CHECK(fit.errors.measured > 0);
+  CHECK(fit.errors.measured <= int(model.surfaceVertices.rows()));
+  CHECK(fit.errors.surfaceSamples > 0);
+  CHECK(fit.errors.p99 <= fit.errors.max);
+  CHECK(fit.errors.rmsSurfaceToScan <= fit.errors.maxSurfaceToScan);
+  const bool within = fit.errors.rms <= options.tolerance &&
+                      fit.errors.max <= options.maxErrorFactor * options.tolerance;
+  if (fit.reachedTolerance) CHECK(within);
+  CHECK(fit.withinBudget == (model.controlPoints.rows() <= options.maxControl));
+  CHECK(fit.warnings.size() == std::size_t(!fit.reachedTolerance) + std::size_t(!fit.withinBudget));
+  REQUIRE(!fit.rounds.empty());
+  CHECK(fit.rounds.back().controlPoints == model.controlPoints.rows());
+  CHECK(fit.flatten.converged);
+}
+
+}  // namespace
+
+TEST_CASE("fit_scan: genus-1 knot, a T-spline refined within the budget", "[spline]") {
+  const structure::TriMesh scan = test::realMesh("knot1.off");
+  spline::FitOptions options;
+  options.maxControl = 500;
+  options.tolerance = 3e-3;
+  options.correctionRounds = 2;
+  options.flatten.name = "knot1.off";
+  const spline::FitResult fit = spline::fitScan(scan, options);
+  checkFit(fit, scan, options);
+  CHECK(fit.model.kind == spline::SplineKind::TSpline);
+  CHECK(fit.withinBudget);
+  CHECK(fit.filledHoles == 0);
+  CHECK(fit.model.surfaceFaceFilled.empty());
+  CHECK(fit.grid.torus);
+  CHECK(fit.correctionRounds == 2);
+  // Refinement adds control points round by round.
+  for (std::size_t r = 1; r < fit.rounds.size(); ++r)
+    CHECK(fit.rounds[r].controlPoints > fit.rounds[r - 1].controlPoints);
+}
+
+TEST_CASE("fit_scan: triangular B-spline on the knot, subd on the genus-2 eight", "[spline]") {
+  const structure::TriMesh knot = test::realMesh("knot1.off");
+  spline::FitOptions options;
+  options.kind = spline::FitKind::TriBSpline;
+  options.maxControl = 500;
+  options.tolerance = 3e-3;
+  options.correctionRounds = 1;
+  const spline::FitResult tri = spline::fitScan(knot, options);
+  checkFit(tri, knot, options);
+  CHECK(tri.model.kind == spline::SplineKind::TriangularBSpline);
+  // The domain shrinks until the budget holds: 10 functions per cubic face.
+  CHECK(tri.withinBudget);
+  CHECK(10 * tri.domain.faces == tri.model.controlPoints.rows());
+  CHECK(tri.domain.cones == 0);
+
+  const structure::TriMesh eight = test::realMesh("eight.off");
+  options.kind = spline::FitKind::Subd;
+  options.maxControl = 400;
+  const spline::FitResult subd = spline::fitScan(eight, options);
+  checkFit(subd, eight, options);
+  CHECK(subd.model.kind == spline::SplineKind::Subdivision);
+  CHECK_FALSE(subd.grid.torus);
+  CHECK(subd.rounds.size() == 1);
+  CHECK(subd.model.controlPoints.rows() == subd.model.tmesh.numVertices);
+}
+
+TEST_CASE("fit_scan: a budget the domain cannot meet ends, reported over budget", "[spline]") {
+  // The genus-2 eight with its cones kept apart needs more than 10 domain faces.
+  const structure::TriMesh eight = test::realMesh("eight.off");
+  spline::FitOptions options;
+  options.kind = spline::FitKind::TriBSpline;
+  options.maxControl = 100;
+  options.correctionRounds = 0;
+  options.maxRefinements = 0;
+  const spline::FitResult fit = spline::fitScan(eight, options);
+  checkFit(fit, eight, options);
+  CHECK_FALSE(fit.withinBudget);
+}
+
+TEST_CASE("fit_scan: a scan with holes is fitted with fills, measured only on the scan",
+          "[spline]") {
+  const structure::TriMesh scan = test::realMesh("head.off");
+  spline::FitOptions options;
+  options.kind = spline::FitKind::Subd;
+  options.maxControl = 800;
+  options.tolerance = 5e-3;
+  options.correctionRounds = 1;
+  const spline::FitResult fit = spline::fitScan(scan, options);
+  checkFit(fit, scan, options);
+  CHECK(fit.filledHoles > 0);
+  REQUIRE(fit.model.surfaceFaceFilled.size() == fit.model.surfaceFaces.size());
+  CHECK(fit.errors.measured <= int(scan.n_vertices()));
+}
+
+TEST_CASE("fit_scan: an unreachable tolerance is reported, not thrown", "[spline]") {
+  const structure::TriMesh scan = test::realMesh("knot1.off");
+  spline::FitOptions options;
+  options.kind = spline::FitKind::TriBSpline;
+  options.maxControl = 300;
+  options.tolerance = 1e-6;
+  options.correctionRounds = 0;
+  options.maxRefinements = 1;
+  const spline::FitResult fit = spline::fitScan(scan, options);
+  checkFit(fit, scan, options);
+  CHECK_FALSE(fit.reachedTolerance);
+  CHECK(fit.rounds.size() == 2);
+  CHECK(fit.correctionRounds == 0);
+  CHECK(fit.errors.rms > options.tolerance);
+}
+
+TEST_CASE("fit_scan: a model is measured only against the scan it was fitted to", "[spline]") {
+  const structure::TriMesh knot = test::realMesh("knot1.off");
+  spline::FitOptions options;
+  options.kind = spline::FitKind::TriBSpline;
+  options.maxControl = 300;
+  options.correctionRounds = 0;
+  options.maxRefinements = 0;
+  const spline::FitResult fit = spline::fitScan(knot, options);
+  CHECK_THROWS_AS(spline::measureAgainstScan(fit.model, test::realMesh("eight.off")),
+                  structure::InputError);
+  CHECK_THROWS_AS(spline::parseFitKind("nurbs"), structure::InputError);
+  CHECK(spline::parseFitKind("subd") == spline::FitKind::Subd);
+}
