@@ -53,8 +53,9 @@ PYBIND11_MODULE(_mspline, module) {
   using namespace mspline::python;
   module.doc() = "mspline: manifold splines on meshes (numpy arrays in and out)";
   py::register_exception_translator(&translateErrors);
-  bindModel(module);
+  py::class_<Model> model = bindModel(module);
   bindFlatten(module);
+  bindFit(module, model);
   module.def("read_mesh", &readMesh, py::arg("path"),
              "Reads and validates a mesh file (OFF, OBJ, PLY, STL): (vertices float64 (n, 3), "
              "triangles int64 (m, 3)). ValueError naming the file when it cannot be read or is "

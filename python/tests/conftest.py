@@ -35,16 +35,25 @@ def cli():
 
 @pytest.fixture(scope="session")
 def cli_fit(cli, data_dir, tmp_path_factory):
-    """`mspline fit` of eight.off with FIT_ARGUMENTS and a kind: the model file's path."""
+    """`mspline fit` of eight.off with FIT_ARGUMENTS and a kind: the model file's path (its
+    --json report next to it, .json)."""
     paths = {}
 
     def fit(kind):
         if kind not in paths:
             path = tmp_path_factory.mktemp("cli") / f"eight-{kind}.msp"
-            subprocess.run([str(cli), "fit", str(data_dir / "eight.off"), "-o", str(path),
-                            "--quiet", f"--kind={kind}", *cli_options(FIT_ARGUMENTS)],
-                           check=True)
+            run = subprocess.run([str(cli), "fit", str(data_dir / "eight.off"), "-o", str(path),
+                                  "--quiet", "--json", f"--kind={kind}",
+                                  *cli_options(FIT_ARGUMENTS)],
+                                 check=True, capture_output=True, text=True)
+            path.with_suffix(".json").write_text(run.stdout)
             paths[kind] = path
         return paths[kind]
 
     return fit
+
+
+@pytest.fixture(scope="session")
+def eight_msp(cli_fit):
+    """eight.off fitted by `mspline fit` (a T-spline with FIT_ARGUMENTS)."""
+    return cli_fit("tspline")
