@@ -11,11 +11,10 @@
 #include <pybind11/numpy.h>
 #include <tbb/parallel_for.h>
 #include <Eigen/Geometry>
-#include <Eigen/LU>
 
 #include "mspline/io/spline_model_file.h"
 #include "mspline/spline/fitting/surface_fit.h"
-#include "mspline/spline/tribspline/tri_bspline.h"
+#include "mspline/spline/tribspline/spline_domain.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/mesh/closest_point.h"
 #include "python/src/arrays.h"
@@ -28,41 +27,36 @@ using spline::FitParameter;
 using spline::SplineKind;
 using spline::SplineModel;
 
-// The parameter domain's faces: a triangular B-spline's domain triangles (Model::faceCorners), a
-// T-mesh's rectangles [0, width] x [0, height] otherwise.
+// The parameter domain's faces: a triangular B-spline's domain triangles (positions in the frame
+// of spline::canonicalCorners), a T-mesh's rectangles [0, width] x [0, height] otherwise.
 int faceCount(const SplineModel& model) {
   return model.kind == SplineKind::TriangularBSpline ? model.domain.faceCount()
                                                      : model.tmesh.numFaces();
 }
 
-bool insideFace(const Model& self, int face, const Eigen::Vector2d& uv) {
+bool insideFace(const SplineModel& model, int face, const Eigen::Vector2d& uv) {
   constexpr double kSlack = 1e-9;  // relative to the face's size: positions on a side, rounded
-  if (self.model.kind == SplineKind::TriangularBSpline) {
-    const auto& [a, b, c] = self.faceCorners[std::size_t(face)];
-    Eigen::Matrix2d sides;
-    sides << b - a, c - a;
-    const Eigen::Vector2d st = sides.inverse() * (uv - a);
-    return st.minCoeff() >= -kSlack && st.sum() <= 1.0 + kSlack;
-  }
-  const spline::TMeshFace& f = self.model.tmesh.faces[std::size_t(face)];
+  if (model.kind == SplineKind::TriangularBSpline)
+    return spline::frameBarycentric(model.domain, face, uv).minCoeff() >= -kSlack;
+  const spline::TMeshFace& f = model.tmesh.faces[std::size_t(face)];
   const double slack = kSlack * std::max(f.width, f.height);
   return uv.x() >= -slack && uv.y() >= -slack && uv.x() <= f.width + slack &&
          uv.y() <= f.height + slack;
 }
 
 // Uniform in the face (in its frame).
-Eigen::Vector2d randomPointInFace(const Model& self, int face, std::mt19937_64& random) {
+Eigen::Vector2d randomPointInFace(const SplineModel& model, int face, std::mt19937_64& random) {
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   double s = unit(random), t = unit(random);
-  if (self.model.kind == SplineKind::TriangularBSpline) {
+  if (model.kind == SplineKind::TriangularBSpline) {
     if (s + t > 1.0) {
       s = 1.0 - s;
       t = 1.0 - t;
     }
-    const auto& [a, b, c] = self.faceCorners[std::size_t(face)];
-    return a + s * (b - a) + t * (c - a);
+    const auto corners = spline::canonicalCorners(model.domain, face);
+    return corners[0] + s * (corners[1] - corners[0]) + t * (corners[2] - corners[0]);
   }
-  const spline::TMeshFace& f = self.model.tmesh.faces[std::size_t(face)];
+  const spline::TMeshFace& f = model.tmesh.faces[std::size_t(face)];
   return {s * f.width, t * f.height};
 }
 
@@ -82,7 +76,7 @@ std::vector<FitParameter> toParameters(const Model& self, const IndexArray& face
                             std::to_string(k) + ") is not one of the model's " +
                             std::to_string(count) + " faces");
     const FitParameter p{int(face(k)), {uv(k, 0), uv(k, 1)}};
-    if (!insideFace(self, p.face, p.position))
+    if (!insideFace(self.model, p.face, p.position))
       throw py::value_error("evaluate: uv (" + std::to_string(uv(k, 0)) + ", " +
                             std::to_string(uv(k, 1)) + ") (entry " + std::to_string(k) +
                             ") lies outside face " + std::to_string(p.face));
@@ -242,7 +236,7 @@ py::dict sample(const Model& self, int count, unsigned long long seed) {
     for (int k = 0; k < count; ++k) {
       for (int attempt = 0;; ++attempt) {
         const int face = pickFace(random);
-        const FitParameter p{face, randomPointInFace(self, face, random)};
+        const FitParameter p{face, randomPointInFace(self.model, face, random)};
         const Eigen::Vector3d point =
             spline::evaluateFitSurface(self.surface->fitSpace(), self.model.controlPoints, p);
         if (point.allFinite()) {
@@ -297,16 +291,7 @@ void setControlPoints(Model& self, const py::handle& value) {
 Model::Model(spline::SplineModel splineModel, std::string modelName)
     : model(std::move(splineModel)),
       name(std::move(modelName)),
-      surface(std::make_unique<spline::ModelSurface>(model, name)) {
-  if (model.kind != SplineKind::TriangularBSpline) return;
-  const spline::TriBSplineSpace space(model.domain, model.knots);
-  for (int face = 0; face < model.domain.faceCount(); ++face) {
-    std::array<Eigen::Vector2d, 3> corners;
-    for (int k = 0; k < 3; ++k)
-      corners[std::size_t(k)] = space.framePosition({face, Eigen::Vector3d::Unit(k)});
-    faceCorners.push_back(corners);
-  }
-}
+      surface(std::make_unique<spline::ModelSurface>(model, name)) {}
 
 py::class_<Model> bindModel(py::module_& module) {
   return py::class_<Model>(module, "Model",

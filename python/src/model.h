@@ -1,12 +1,8 @@
 #pragma once
 // The Python Model: a spline model with its space built once (spline::ModelSurface), evaluated,
 // projected onto, sampled, tessellated and saved from Python.
-#include <array>
 #include <memory>
 #include <string>
-#include <vector>
-
-#include <Eigen/Core>
 
 #include <pybind11/pybind11.h>
 
@@ -25,9 +21,6 @@ struct Model {
   /// Names the model (its file, or the fitted scan) in messages.
   std::string name;
   std::unique_ptr<spline::ModelSurface> surface;
-  /// Triangular B-splines: per domain face, its corners in the face's frame (the frame of
-  /// FitParameter positions: TriBSplineSpace::framePosition).
-  std::vector<std::array<Eigen::Vector2d, 3>> faceCorners;
   /// The fit's figures (a dict) for a fitted model; null for a loaded one (a null handle, so that
   /// a Model can be made without the GIL).
   py::object fitReport;

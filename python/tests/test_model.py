@@ -112,9 +112,9 @@ def test_sample_spreads_points_by_area(model):
 
 def skip_triangular_projection(kind):
     if kind == "tribspline":
-        pytest.skip("projection onto triangular B-splines misses about 2.5% of surface points, "
-                    "some by 1% of the diagonal, and 9% of the tessellation's vertices: to "
-                    "investigate")
+        pytest.skip("projection onto triangular B-splines misses about 2.5% of surface points: "
+                    "some of the tessellation's sample points (its projection starts) lie "
+                    "outside their face's triangle, and Newton's walks from there go astray")
 
 
 def test_tessellate_gives_surface_points_and_unit_normals(model, kind):
