@@ -10,6 +10,8 @@ import subprocess
 
 import pytest
 
+import mspline
+
 REPOSITORY = pathlib.Path(__file__).resolve().parents[2]
 # A small budget and one refinement keep a fit of eight.off to about a second.
 FIT_ARGUMENTS = {"max_control": 800, "max_refinements": 1}
@@ -23,6 +25,12 @@ def cli_options(options):
 @pytest.fixture(scope="session")
 def data_dir():
     return pathlib.Path(os.environ.get("MSPLINE_DATA_DIR", REPOSITORY / "data" / "meshes"))
+
+
+@pytest.fixture(scope="session")
+def eight(data_dir):
+    """eight.off (a closed surface of genus 2) as arrays."""
+    return mspline.read_mesh(data_dir / "eight.off")
 
 
 @pytest.fixture(scope="session")

@@ -9,11 +9,6 @@ from helpers import counts_alongside, diagonal
 
 
 @pytest.fixture(scope="module")
-def eight(data_dir):
-    return mspline.read_mesh(data_dir / "eight.off")
-
-
-@pytest.fixture(scope="module")
 def fitted(eight):
     calls = []
     model = mspline.fit(*eight, progress=lambda stage, fraction: calls.append((stage, fraction)),

@@ -7,11 +7,6 @@ import mspline
 
 
 @pytest.fixture(scope="module")
-def eight(data_dir):
-    return mspline.read_mesh(data_dir / "eight.off")
-
-
-@pytest.fixture(scope="module")
 def flat_eight(eight):
     calls = []
     flat = mspline.flatten(*eight, quantize=True,
