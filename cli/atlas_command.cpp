@@ -83,16 +83,8 @@ void addAtlasCommand(CLI::App& app, Command& command) {
       if (flat.contains("holonomy")) report["flatten"]["holonomy"] = flat["holonomy"];
       if (a.check) {
         const io::LoadedAtlas back = io::readAtlas(a.output);
-        bool identical = back.atlas.charts.size() == atlas.charts.size() &&
-                         back.atlas.transitions.size() == atlas.transitions.size() &&
-                         back.mesh.n_faces() == flattening.surface().n_faces();
-        for (std::size_t c = 0; identical && c < atlas.charts.size(); ++c)
-          identical = back.atlas.charts[c].vertices == atlas.charts[c].vertices &&
-                      back.atlas.charts[c].positions == atlas.charts[c].positions;
-        for (std::size_t t = 0; identical && t < atlas.transitions.size(); ++t)
-          identical = back.atlas.transitions[t].motion.angle == atlas.transitions[t].motion.angle &&
-                      back.atlas.transitions[t].motion.translation ==
-                          atlas.transitions[t].motion.translation;
+        const bool identical = back.mesh.n_faces() == flattening.surface().n_faces() &&
+                               identicalAtlases(back.atlas, atlas);
         report["check"] = atlasFigures(back.atlas);
         report["check"]["identical"] = identical;
         stages["check"] = clock.lap();

@@ -1,5 +1,4 @@
 // mspline cut: opens a surface into a topological disk and writes it.
-#include <chrono>
 #include <iostream>
 
 #include "cli/command.h"
@@ -7,6 +6,7 @@
 #include "mspline/io/load_mesh.h"
 #include "mspline/io/read_mesh.h"
 #include "mspline/io/write_mesh.h"
+#include "mspline/structure/core/stopwatch.h"
 #include "mspline/structure/topology/cut_to_disk.h"
 
 namespace mspline::cli {
@@ -53,7 +53,7 @@ void addCutCommand(CLI::App& app, Command& command) {
   sub->callback([&command, arguments] {
     command.name = "cut";
     command.run = [&command, arguments] {
-      auto start = std::chrono::steady_clock::now();
+      structure::Stopwatch clock;
       io::meshFormatFromPath(arguments->output);  // fail before the work, not after
       io::LoadedMesh loaded = io::loadMesh(arguments->mesh);
       if (!arguments->quiet) {
@@ -65,8 +65,7 @@ void addCutCommand(CLI::App& app, Command& command) {
       options.oneVertexSchema = !arguments->generalCutGraph;
       structure::CutResult cut = structure::cutToDisk(*loaded.mesh, options);
       io::writeMesh(arguments->output, cut.disk);
-      double seconds =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const double seconds = clock.lap();
       if (command.json) {
         printJson({{"file", arguments->mesh},
                    {"output", arguments->output},

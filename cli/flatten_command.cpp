@@ -10,7 +10,6 @@
 #include "mspline/io/write_mesh.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/core/stopwatch.h"
-#include "mspline/structure/mesh/polygon_soup.h"
 #include "mspline/structure/picture/layout_svg.h"
 
 namespace mspline::cli {
@@ -63,14 +62,7 @@ void addFlattenCommand(CLI::App& app, Command& command) {
       const TriMesh& surface = flat.surface();
       const FlatLayout& layout = flat.layout;
       clock.lap();
-      PolygonSoup soup = toSoup(surface, a.mesh);
-      soup.cornerUVs.resize(soup.faces.size());
-      for (auto f : surface.faces())
-        for (int k = 0; k < 3; ++k) {
-          const auto row = layout.cornerUV.row(3 * f.idx() + k);
-          soup.cornerUVs[f.idx()].push_back({row[0], row[1]});
-        }
-      io::writeMesh(a.output, soup);
+      io::writeMesh(a.output, soupWithCornerUVs(surface, layout, a.mesh));
       if (!a.svg.empty()) {
         LayoutSvgOptions svgOptions;
         svgOptions.coverRadius = a.cover ? 1 : 0;

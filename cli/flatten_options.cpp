@@ -23,6 +23,12 @@ bool isCount(const std::string& text) {
   return !text.empty() && std::all_of(text.begin(), text.end(), ::isdigit);
 }
 
+bool parseCount(const std::string& text, int& count) {
+  const char* end = text.data() + text.size();
+  const auto parsed = std::from_chars(text.data(), end, count);
+  return isCount(text) && parsed.ec == std::errc() && parsed.ptr == end;
+}
+
 void addFlattenOptions(CLI::App& sub, FlattenSettings& settings, const std::string& toleranceFlag) {
   sub.add_option("--scheme", settings.scheme,
                  "yamabe (vertex scaling, default), tangential (Thurston circle packing with "
@@ -64,9 +70,7 @@ FlattenOptions toFlattenOptions(const FlattenSettings& settings, const std::stri
   options.name = file;
   const std::string& cones = settings.cones;
   if (isCount(cones)) {
-    const auto parsed =
-        std::from_chars(cones.data(), cones.data() + cones.size(), options.coneCount);
-    if (parsed.ec != std::errc())
+    if (!parseCount(cones, options.coneCount))
       throw InputError("--cones " + cones + ": not a number of cones from 0 to 2^31 - 1");
   } else if (cones == "none") {
     options.cones.emplace();

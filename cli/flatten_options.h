@@ -26,6 +26,9 @@ struct FlattenSettings {
 /// name is also accepted).
 bool isCount(const std::string& text);
 
+/// Parses a count (isCount) into `count`; false when it is not one or does not fit.
+bool parseCount(const std::string& text, int& count);
+
 /// Adds --scheme, --cones, --quantize, --single-cone, --boundary, --tolerance (named
 /// `toleranceFlag`, for commands with a tolerance of their own), --max-iterations and -q/--quiet
 /// to a subcommand.

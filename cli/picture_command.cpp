@@ -66,6 +66,10 @@ void addPictureCommand(CLI::App& app, Command& command) {
     command.name = "picture";
     command.run = [&command, arguments] {
       const PictureArguments& a = *arguments;
+      const io::PictureKind kind = a.kind == "layout"    ? io::PictureKind::Layout
+                                   : a.kind == "checker" ? io::PictureKind::Checker
+                                   : a.kind == "lines"   ? io::PictureKind::Lines
+                                                         : io::PictureKind::Cover;
       if (lowerExtension(a.output) != ".png")
         throw InputError(a.output + ": picture writes PNG files (.png)");
       const Progress progress = progressLines("picture", a.settings.quiet);
@@ -90,7 +94,7 @@ void addPictureCommand(CLI::App& app, Command& command) {
                           std::to_string(loaded->mesh->n_faces()) + " faces loaded; flattening");
       }
       const TriMesh& mesh = atlas ? atlas->mesh : *loaded->mesh;
-      if (a.kind == "cover") {
+      if (kind == io::PictureKind::Cover) {
         const TopologyReport topology = analyzeTopology(mesh);
         if (!topology.closed || topology.genus != 1)
           throw InputError(a.mesh + ": --kind cover needs a closed genus-1 surface (this one has " +
@@ -104,18 +108,12 @@ void addPictureCommand(CLI::App& app, Command& command) {
         surface = &flat->surface();
       }
       const FlatLayout layout = flat ? flat->layout : layoutFlatMetric(*surface, lengths);
-      if (a.kind == "cover" && !layout.hasPeriods)
+      if (kind == io::PictureKind::Cover && !layout.hasPeriods)
         throw InputError(a.mesh + ": --kind cover needs a flat torus, but the metric has " +
                          std::to_string(layout.cones.size()) + " cones" +
                          (atlas ? "" : " (use --cones none)"));
       clock.lap();
-      const io::RasterImage image =
-          a.kind == "layout" ? io::renderLayout(*surface, layout, a.options)
-          : a.kind == "checker"
-              ? io::renderSurface(*surface, layout, a.options, io::SurfaceTexture::Checker)
-          : a.kind == "lines"
-              ? io::renderSurface(*surface, layout, a.options, io::SurfaceTexture::Lines)
-              : io::renderCover(*surface, layout, a.options);
+      const io::RasterImage image = io::renderPicture(*surface, layout, kind, a.options);
       stages["render"] = clock.lap();
       io::writePng(a.output, image);
       stages["write"] = clock.lap();

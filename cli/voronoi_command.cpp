@@ -1,16 +1,7 @@
 // mspline voronoi: the Voronoi diagram of sites on a closed genus-1 surface in its flat metric,
 // computed on the universal cover and written as the mesh with one group per cell and the cell
 // boundaries as polylines.
-#include <algorithm>
-#include <charconv>
-#include <cmath>
-#include <fstream>
 #include <iostream>
-#include <limits>
-#include <random>
-#include <sstream>
-
-#include <Eigen/Dense>
 
 #include "cli/command.h"
 #include "cli/flatten_options.h"
@@ -18,15 +9,13 @@
 #include "mspline/io/load_mesh.h"
 #include "mspline/io/raster_image.h"
 #include "mspline/io/read_mesh.h"
+#include "mspline/io/site_file.h"
 #include "mspline/io/surface_pictures.h"
 #include "mspline/io/write_labeled_mesh.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/core/stopwatch.h"
-#include "mspline/structure/core/surface_point.h"
-#include "mspline/structure/intrinsic/intrinsic_overlay.h"
-#include "mspline/structure/layout/flat_torus_voronoi.h"
+#include "mspline/structure/flatten/surface_voronoi.h"
 #include "mspline/structure/picture/torus_voronoi_svg.h"
-#include "mspline/structure/topology/topology.h"
 
 namespace mspline::cli {
 
@@ -44,73 +33,6 @@ struct VoronoiArguments {
   unsigned seed = 1;
   bool quiet = false;
 };
-
-template <typename Number>
-bool parseWhole(const std::string& token, Number& value) {
-  const char* end = token.data() + token.size();
-  const auto result = std::from_chars(token.data(), end, value);
-  return result.ec == std::errc() && result.ptr == end;
-}
-
-// Lines "face b0 b1 b2" ('#' starts a comment), faces of `mesh`.
-std::vector<SurfacePoint> readSiteFile(const std::string& path, const TriMesh& mesh) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw IoError(path + ": cannot open the sites file");
-  std::vector<SurfacePoint> sites;
-  std::string line;
-  for (int lineNumber = 1; std::getline(file, line); ++lineNumber) {
-    const std::string content = line.substr(0, line.find('#'));
-    std::istringstream fields(content);
-    std::vector<std::string> tokens;
-    for (std::string token; fields >> token;) tokens.push_back(token);
-    if (tokens.empty()) continue;
-    const std::string where = path + ":" + std::to_string(lineNumber);
-    SurfacePoint site;
-    bool valid = tokens.size() == 4 && parseWhole(tokens[0], site.face);
-    for (int k = 0; valid && k < 3; ++k) valid = parseWhole(tokens[k + 1], site.barycentric[k]);
-    if (!valid)
-      throw InputError(where +
-                       ": expected 'face b0 b1 b2' (a face index and three barycentric "
-                       "coordinates), got '" +
-                       content.substr(0, content.find_last_not_of(" \t\r") + 1) + "'");
-    checkSurfacePoint(mesh, site, where);
-    sites.push_back(site);
-  }
-  if (file.bad()) throw IoError(path + ": error while reading the sites file");
-  if (sites.empty()) throw InputError(path + ": no sites");
-  return sites;
-}
-
-// A point of an input face as a point of the overlay face (a piece of it) that holds it.
-std::vector<SurfacePoint> sitesOnOverlay(const TriMesh& input, const IntrinsicOverlay& overlay,
-                                         const std::vector<SurfacePoint>& sites) {
-  std::vector<std::vector<int>> pieces(input.n_faces());
-  for (std::size_t g = 0; g < overlay.inputFace.size(); ++g)
-    pieces[overlay.inputFace[g]].push_back(static_cast<int>(g));
-  std::vector<SurfacePoint> mapped;
-  for (const SurfacePoint& site : sites) {
-    const Eigen::Vector3d x = surfacePosition(input, site);
-    SurfacePoint best;
-    double bestWorst = -std::numeric_limits<double>::infinity();
-    for (int g : pieces[site.face]) {
-      const Eigen::Vector3d q0 = surfacePosition(overlay.mesh, {g, Eigen::Vector3d(1, 0, 0)});
-      const Eigen::Vector3d e1 = surfacePosition(overlay.mesh, {g, Eigen::Vector3d(0, 1, 0)}) - q0;
-      const Eigen::Vector3d e2 = surfacePosition(overlay.mesh, {g, Eigen::Vector3d(0, 0, 1)}) - q0;
-      Eigen::Matrix2d gram;
-      gram << e1.dot(e1), e1.dot(e2), e1.dot(e2), e2.dot(e2);
-      const Eigen::Vector2d beta = gram.inverse() * Eigen::Vector2d(e1.dot(x - q0), e2.dot(x - q0));
-      const Eigen::Vector3d b(1.0 - beta.sum(), beta.x(), beta.y());
-      if (b.minCoeff() > bestWorst) {
-        bestWorst = b.minCoeff();
-        best = {g, b};
-      }
-    }
-    best.barycentric = best.barycentric.cwiseMax(0.0);
-    best.barycentric /= best.barycentric.sum();
-    mapped.push_back(best);
-  }
-  return mapped;
-}
 
 }  // namespace
 
@@ -148,36 +70,18 @@ void addVoronoiCommand(CLI::App& app, Command& command) {
       Stopwatch clock;
       io::LoadedMesh loaded = io::loadMesh(a.mesh);
       const TriMesh& mesh = *loaded.mesh;
-      const TopologyReport topology = analyzeTopology(mesh);
-      if (topology.components != 1 || !topology.closed || topology.genus != 1)
-        throw TopologyError(a.mesh + ": voronoi needs a closed genus-1 surface; this one has " +
-                            std::to_string(topology.components) + " components, genus " +
-                            std::to_string(topology.genus) + " and " +
-                            std::to_string(topology.boundaryLoops) + " boundary loops");
-      const bool random = isCount(a.sites);
-      int count = 0;
-      if (random && (!parseWhole(a.sites, count) || count == 0))
-        throw InputError("--sites " + a.sites + ": not a number of sites from 1 to 2^31 - 1");
-      std::vector<SurfacePoint> sites;
-      if (!random) sites = readSiteFile(a.sites, mesh);
-
-      FlattenOptions options;
-      options.cones.emplace();
+      SurfaceVoronoiOptions options;
       options.name = a.mesh;
+      options.seed = a.seed;
+      if (!isCount(a.sites))
+        options.sites = io::readSiteFile(a.sites, mesh);
+      else if (!parseCount(a.sites, options.randomSites) || options.randomSites == 0)
+        throw InputError("--sites " + a.sites + ": not a number of sites from 1 to 2^31 - 1");
+      const SurfaceVoronoi cells = surfaceVoronoi(mesh, options, progress);
       Json stages;
-      structure::report(progress,
-                        std::to_string(mesh.n_faces()) + " faces loaded; flattening without cones");
-      const Flattening flat = flattenSurface(mesh, options, progress);
-      flatteningJson(flat, options, stages, command);
-      const TriMesh& surface = flat.surface();
-      if (random)
-        sites = randomSurfacePoints(surface, count, a.seed);
-      else if (flat.overlay)
-        sites = sitesOnOverlay(mesh, *flat.overlay, sites);
-
-      const TorusVoronoi voronoi = flatTorusVoronoi(surface, flat.layout, sites);
-      std::vector<int> facesPerCell(sites.size(), 0);
-      for (int label : voronoi.faceLabel) ++facesPerCell[label];
+      flatteningJson(cells.flattening, cells.flattenOptions, stages, command);
+      const TriMesh& surface = cells.flattening.surface();
+      const TorusVoronoi& voronoi = cells.voronoi;
       std::vector<io::LabeledPolyline> lines;
       for (const VoronoiPolyline& polyline : voronoi.polylines)
         lines.push_back({"boundary_" + std::to_string(polyline.cells[0]) + "_" +
@@ -188,19 +92,19 @@ void addVoronoiCommand(CLI::App& app, Command& command) {
         TorusVoronoiSvgOptions svgOptions;
         svgOptions.coverRadius = a.cover ? 1 : 0;
         const std::string picture =
-            torusVoronoiSvg(surface, flat.layout, sites, voronoi, svgOptions);
+            torusVoronoiSvg(surface, cells.flattening.layout, cells.sites, voronoi, svgOptions);
         io::writeFileAtomically(a.svg, [&](std::ostream& out) { out << picture; });
       }
       if (!a.png.empty())
         io::writePng(a.png, io::renderSurfaceLabels(surface, voronoi.faceLabel, {}));
       const double seconds = clock.lap();
 
-      const auto [fewest, most] = std::minmax_element(facesPerCell.begin(), facesPerCell.end());
       Json report;
       report["file"] = a.mesh;
-      report["sites"] = sites.size();
+      report["sites"] = cells.sites.size();
       report["cells"] = voronoi.cells;
-      report["faces_per_cell"] = {{"min", *fewest}, {"max", *most}};
+      report["faces_per_cell"] = {{"min", cells.fewestFacesPerCell},
+                                  {"max", cells.mostFacesPerCell}};
       report["boundary_polylines"] = voronoi.polylines.size();
       report["replicated_sites"] = voronoi.replicatedSites;
       report["max_equidistance_error"] = voronoi.maxEquidistanceError;
@@ -209,10 +113,10 @@ void addVoronoiCommand(CLI::App& app, Command& command) {
       if (command.json) {
         printJson(report);
       } else {
-        std::cout << sites.size() << " sites, " << voronoi.cells << " cells of " << *fewest
-                  << " to " << *most << " faces, " << voronoi.polylines.size()
-                  << " boundary polylines, " << seconds << " s\nwrote " << a.output
-                  << (a.svg.empty() ? "" : " and " + a.svg) << std::endl;
+        std::cout << cells.sites.size() << " sites, " << voronoi.cells << " cells of "
+                  << cells.fewestFacesPerCell << " to " << cells.mostFacesPerCell << " faces, "
+                  << voronoi.polylines.size() << " boundary polylines, " << seconds << " s\nwrote "
+                  << a.output << (a.svg.empty() ? "" : " and " + a.svg) << std::endl;
       }
       return int(kExitSuccess);
     };

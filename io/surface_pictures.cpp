@@ -370,4 +370,19 @@ RasterImage renderCover(const TriMesh& surface, const FlatLayout& layout,
   return renderPlane(surface, layout, options, frame, shifts, colors, true);
 }
 
+RasterImage renderPicture(const TriMesh& surface, const FlatLayout& layout, PictureKind kind,
+                          const PictureOptions& options) {
+  switch (kind) {
+    case PictureKind::Layout:
+      return renderLayout(surface, layout, options);
+    case PictureKind::Checker:
+      return renderSurface(surface, layout, options, SurfaceTexture::Checker);
+    case PictureKind::Lines:
+      return renderSurface(surface, layout, options, SurfaceTexture::Lines);
+    case PictureKind::Cover:
+      break;
+  }
+  return renderCover(surface, layout, options);
+}
+
 }  // namespace mspline::io

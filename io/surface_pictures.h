@@ -79,4 +79,11 @@ RasterImage renderSurfaceLabels(const structure::TriMesh& surface,
 RasterImage renderCover(const structure::TriMesh& surface, const structure::FlatLayout& layout,
                         const PictureOptions& options = {});
 
+/// What `mspline picture` draws: the layout, the surface with either texture, or the cover.
+enum class PictureKind { Layout, Checker, Lines, Cover };
+
+/// The picture of `kind` (renderLayout, renderSurface or renderCover).
+RasterImage renderPicture(const structure::TriMesh& surface, const structure::FlatLayout& layout,
+                          PictureKind kind, const PictureOptions& options = {});
+
 }  // namespace mspline::io

@@ -214,6 +214,8 @@ void addStageSeconds(StageSeconds& stages, const std::string& name, double secon
 
 SplineSpaceBuild buildSpline(const Flattening& flattening, const BuildSplineOptions& options,
                              const Progress& progress) {
+  if (!flattening.converged)
+    throw InputError("buildSpline: the surface is not flattened (" + flattening.message + ")");
   SplineSpaceBuild build;
   Stopwatch clock;
   if (options.kind == SpaceKind::TriBSpline)

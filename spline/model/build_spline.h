@@ -97,8 +97,8 @@ struct SplineSpaceBuild {
   StageSeconds stageSeconds;
 };
 
-/// Builds the space of `options.kind` on the flattened closed surface (flattening.converged).
-/// Throws InputError / SolverError when the grid or domain cannot be built.
+/// Builds the space of `options.kind` on the flattened closed surface. Throws InputError when the
+/// flattening did not converge, InputError / SolverError when the grid or domain cannot be built.
 SplineSpaceBuild buildSpline(const structure::Flattening& flattening,
                              const BuildSplineOptions& options = {},
                              const structure::Progress& progress = {});

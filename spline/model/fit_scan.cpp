@@ -146,8 +146,8 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
   result.flatten = {flattening.converged, flattening.flow.maxCurvatureError, flattening.flips};
   for (const auto& [stage, seconds] : flattening.stageSeconds)
     addStageSeconds(result.stageSeconds, stage, seconds);
+  addStageSeconds(result.stageSeconds, "atlas", clock.lap());
   if (!flattening.converged) throw SolverError(flattening.message);
-  clock.lap();
 
   // Per vertex and face of the flattened surface (the mesh, or its common subdivision with the
   // intrinsic triangulation): whether it is the scan's.

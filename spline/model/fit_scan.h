@@ -83,8 +83,9 @@ struct FitResult {
   bool withinBudget = false;
   /// Why the result is weaker than asked (over the budget, tolerance not reached).
   std::vector<std::string> warnings;
-  /// Wall-clock seconds per stage: holes (when closed), the flattening's stages, the space's
-  /// (grid or coarsen, basis, locate), fit, measure.
+  /// Wall-clock seconds per stage: holes (when closed), the flattening's stages and "atlas" (the
+  /// whole flattening, its stages included), the space's (grid or coarsen, basis, locate), fit,
+  /// measure.
   StageSeconds stageSeconds;
 };
 

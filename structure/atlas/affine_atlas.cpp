@@ -5,14 +5,13 @@
 #include <cmath>
 #include <string>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/ricci/vertex_scaling_energy.h"
 
 namespace mspline::structure {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 Eigen::Vector2d rotate(const Eigen::Vector2d& x, double angle) {
   const double c = std::cos(angle), s = std::sin(angle);
@@ -357,6 +356,18 @@ RigidMotion holonomy(const AffineAtlas& atlas, const std::vector<int>& loop) {
   for (std::size_t k = 0; k < loop.size(); ++k)
     total = atlas.transition(loop[k], loop[(k + 1) % loop.size()]).after(total);
   return total;
+}
+
+bool identicalAtlases(const AffineAtlas& a, const AffineAtlas& b) {
+  bool identical =
+      a.charts.size() == b.charts.size() && a.transitions.size() == b.transitions.size();
+  for (std::size_t c = 0; identical && c < a.charts.size(); ++c)
+    identical = a.charts[c].vertices == b.charts[c].vertices &&
+                a.charts[c].positions == b.charts[c].positions;
+  for (std::size_t t = 0; identical && t < a.transitions.size(); ++t)
+    identical = a.transitions[t].motion.angle == b.transitions[t].motion.angle &&
+                a.transitions[t].motion.translation == b.transitions[t].motion.translation;
+  return identical;
 }
 
 }  // namespace mspline::structure

@@ -151,4 +151,8 @@ ChartLocation locateInChart(const TriMesh& mesh, const AffineAtlas& atlas, int c
 /// is a deck translation.
 RigidMotion holonomy(const AffineAtlas& atlas, const std::vector<int>& loop);
 
+/// Whether two atlases have the same charts (vertices and positions) and the same transition
+/// motions, exactly (e.g. an atlas and the one read back from its file).
+bool identicalAtlases(const AffineAtlas& a, const AffineAtlas& b);
+
 }  // namespace mspline::structure

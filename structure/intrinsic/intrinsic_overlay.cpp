@@ -3,10 +3,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <unordered_map>
 #include <utility>
 
+#include <Eigen/Dense>
+
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
 
 namespace mspline::structure {
@@ -14,7 +18,6 @@ namespace mspline::structure {
 namespace {
 
 using Vec2 = Eigen::Vector2d;
-constexpr double kPi = 3.14159265358979323846;
 
 double cross(const Vec2& a, const Vec2& b) {
   return a.x() * b.y() - a.y() * b.x();
@@ -456,6 +459,36 @@ IntrinsicOverlay intrinsicOverlay(const TriMesh& input, const std::vector<int>& 
     replay.flip(e);
   }
   return replay.overlay(u);
+}
+
+std::vector<SurfacePoint> pointsOnOverlay(const TriMesh& input, const IntrinsicOverlay& overlay,
+                                          const std::vector<SurfacePoint>& points) {
+  std::vector<std::vector<int>> pieces(input.n_faces());
+  for (std::size_t g = 0; g < overlay.inputFace.size(); ++g)
+    pieces[overlay.inputFace[g]].push_back(static_cast<int>(g));
+  std::vector<SurfacePoint> mapped;
+  for (const SurfacePoint& point : points) {
+    const Eigen::Vector3d x = surfacePosition(input, point);
+    SurfacePoint best;
+    double bestWorst = -std::numeric_limits<double>::infinity();
+    for (int g : pieces[point.face]) {
+      const Eigen::Vector3d q0 = surfacePosition(overlay.mesh, {g, Eigen::Vector3d(1, 0, 0)});
+      const Eigen::Vector3d e1 = surfacePosition(overlay.mesh, {g, Eigen::Vector3d(0, 1, 0)}) - q0;
+      const Eigen::Vector3d e2 = surfacePosition(overlay.mesh, {g, Eigen::Vector3d(0, 0, 1)}) - q0;
+      Eigen::Matrix2d gram;
+      gram << e1.dot(e1), e1.dot(e2), e1.dot(e2), e2.dot(e2);
+      const Eigen::Vector2d beta = gram.inverse() * Eigen::Vector2d(e1.dot(x - q0), e2.dot(x - q0));
+      const Eigen::Vector3d b(1.0 - beta.sum(), beta.x(), beta.y());
+      if (b.minCoeff() > bestWorst) {
+        bestWorst = b.minCoeff();
+        best = {g, b};
+      }
+    }
+    best.barycentric = best.barycentric.cwiseMax(0.0);
+    best.barycentric /= best.barycentric.sum();
+    mapped.push_back(best);
+  }
+  return mapped;
 }
 
 }  // namespace mspline::structure

@@ -16,6 +16,7 @@
 
 #include <Eigen/Core>
 
+#include "mspline/structure/core/surface_point.h"
 #include "mspline/structure/intrinsic/intrinsic_triangulation.h"
 #include "mspline/structure/mesh/tri_mesh.h"
 
@@ -48,5 +49,11 @@ struct IntrinsicOverlay {
 /// sizes that do not match and InternalError when rounding defeats the construction.
 IntrinsicOverlay intrinsicOverlay(const TriMesh& input, const std::vector<int>& flips,
                                   const Eigen::VectorXd& u);
+
+/// Points of `input`'s faces as points of the overlay faces (pieces of the input face) holding
+/// them: the piece where the point's smallest barycentric coordinate is largest, the coordinates
+/// clamped to it (a point on a piece's edge may round outside it).
+std::vector<SurfacePoint> pointsOnOverlay(const TriMesh& input, const IntrinsicOverlay& overlay,
+                                          const std::vector<SurfacePoint>& points);
 
 }  // namespace mspline::structure

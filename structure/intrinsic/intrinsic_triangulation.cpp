@@ -3,14 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/ricci/vertex_scaling_energy.h"
 
 namespace mspline::structure {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // The three side lengths of face f at u (side k is the edge of halfedge 3f + k), with one common
 // factor removed so that large log-lengths cannot overflow; angles and cotangents are scale

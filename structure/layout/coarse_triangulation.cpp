@@ -9,6 +9,7 @@
 #include <string>
 #include <utility>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/core/surface_point.h"
 #include "mspline/structure/topology/topology.h"
@@ -18,7 +19,6 @@ namespace mspline::structure {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // A flip that lowers a vertex's degree must leave the quadrilateral's angles at the ends of the
 // old diagonal this far below pi (radians): nearly flat quadrilaterals give needles. A vertex
 // whose angle between two neighbours is within this of pi on both sides lies between them.

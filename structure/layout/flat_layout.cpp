@@ -10,6 +10,7 @@
 
 #include <Eigen/Dense>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/topology/cut_graph.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/topology/homotopy_basis.h"
@@ -31,8 +32,6 @@ void reduceLatticeBasis(std::array<Eigen::Vector2d, 2>& basis) {
     std::swap(a, b);
   }
 }
-
-constexpr double kPi = 3.14159265358979323846;
 
 double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return a.x() * b.y() - a.y() * b.x();
@@ -288,7 +287,6 @@ FlatLayout layoutFlatMetric(const TriMesh& mesh, const Eigen::VectorXd& edgeLeng
   auto position = [&](TriMesh::HalfedgeHandle h) -> Eigen::Vector2d {
     return layout.chartPositions.row(copyOf[h.idx()]).transpose();
   };
-  constexpr double kPi = 3.14159265358979323846;
   for (int fi : walk.order) {
     // h runs P -> Q, next(h) Q -> R, prev(h) R -> P, counter-clockwise.
     TriMesh::HalfedgeHandle h = walk.entry[fi];
@@ -412,6 +410,18 @@ FlatLayout layoutFlatMetric(const TriMesh& mesh, const Eigen::VectorXd& edgeLeng
     }
   }
   return layout;
+}
+
+PolygonSoup soupWithCornerUVs(const TriMesh& mesh, const FlatLayout& layout,
+                              const std::string& sourceName) {
+  PolygonSoup soup = toSoup(mesh, sourceName);
+  soup.cornerUVs.resize(soup.faces.size());
+  for (auto f : mesh.faces())
+    for (int k = 0; k < 3; ++k) {
+      const auto row = layout.cornerUV.row(3 * f.idx() + k);
+      soup.cornerUVs[f.idx()].push_back({row[0], row[1]});
+    }
+  return soup;
 }
 
 }  // namespace mspline::structure

@@ -2,12 +2,14 @@
 // Lays a flat metric with cone singularities out in the plane: cuts the surface into a disk through
 // every cone and the homotopy loops, then places the disk triangle by triangle (trilateration).
 #include <array>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
-#include "mspline/structure/ricci/curvature_target.h"
+#include "mspline/structure/mesh/polygon_soup.h"
 #include "mspline/structure/mesh/tri_mesh.h"
+#include "mspline/structure/ricci/curvature_target.h"
 
 namespace mspline::structure {
 
@@ -99,5 +101,9 @@ struct FlatLayout {
 /// the triangle inequality, is laid out anyway and shows in the error and flip statistics.
 FlatLayout layoutFlatMetric(const TriMesh& mesh, const Eigen::VectorXd& edgeLengths,
                             const FlatLayoutOptions& options = {});
+
+/// `mesh` as a polygon soup (named `sourceName`) carrying the layout's per-corner UVs.
+PolygonSoup soupWithCornerUVs(const TriMesh& mesh, const FlatLayout& layout,
+                              const std::string& sourceName);
 
 }  // namespace mspline::structure

@@ -7,13 +7,14 @@
 #include <string>
 #include <utility>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
 
 namespace mspline::structure {
 
 namespace {
 
-constexpr double kQuarter = M_PI / 2.0;
+constexpr double kQuarter = kPi / 2.0;
 
 double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return a.x() * b.y() - a.y() * b.x();
@@ -21,8 +22,8 @@ double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
 
 // Angle in [0, 2 pi).
 double wrapTurn(double angle) {
-  angle = std::fmod(angle, 2.0 * M_PI);
-  return angle < 0.0 ? angle + 2.0 * M_PI : angle;
+  angle = std::fmod(angle, 2.0 * kPi);
+  return angle < 0.0 ? angle + 2.0 * kPi : angle;
 }
 
 struct Motion {
@@ -269,7 +270,7 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
   }
   for (const auto v : mesh.vertices()) {
     const double angle = angleSum[std::size_t(v.idx())];
-    if (std::abs(angle - 2.0 * M_PI) <= options.coneTolerance) continue;
+    if (std::abs(angle - 2.0 * kPi) <= options.coneTolerance) continue;
     const int quarterTurns = int(std::lround(angle / kQuarter));
     if (quarterTurns < 1 || std::abs(angle - quarterTurns * kQuarter) > options.angleTolerance)
       throw InputError("motorcycle layout: vertex " + std::to_string(v.idx()) + " has cone angle " +

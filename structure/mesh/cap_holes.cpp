@@ -6,14 +6,13 @@
 
 #include <Eigen/SparseCore>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/core/sparse_cholesky.h"
 
 namespace mspline::structure {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // The boundary loops in the direction of their boundary halfedges (vertex k to k + 1), which is
 // the direction the cap faces must traverse them in to keep the input's orientation.

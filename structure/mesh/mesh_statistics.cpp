@@ -5,6 +5,8 @@
 #include <limits>
 #include <vector>
 
+#include "mspline/structure/core/constants.h"
+
 namespace mspline::structure {
 
 MeshStatistics meshStatistics(const TriMesh& mesh) {
@@ -33,7 +35,7 @@ MeshStatistics meshStatistics(const TriMesh& mesh) {
 
   std::vector<double> angles;
   angles.reserve(3 * mesh.n_faces());
-  constexpr double kDegrees = 180.0 / 3.14159265358979323846;
+  constexpr double kDegrees = 180.0 / kPi;
   for (const auto f : mesh.faces()) {
     const auto h0 = mesh.halfedge_handle(f);
     const auto h1 = mesh.next_halfedge_handle(h0);

@@ -5,14 +5,13 @@
 #include <cmath>
 #include <string>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/ricci/vertex_scaling_energy.h"
 
 namespace mspline::structure {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Gauss-Legendre rule on [0, 1]; 16 nodes integrate the energy's 1-form along a segment to
 // near machine precision wherever the angles are smooth along it.

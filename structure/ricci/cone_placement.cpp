@@ -9,6 +9,7 @@
 
 #include <Eigen/LU>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/core/index_map.h"
 #include "mspline/structure/core/sparse_cholesky.h"
@@ -19,7 +20,6 @@ namespace mspline::structure {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kQuarter = kPi / 2.0;
 
 // The input's cotangent Laplacian L, factorized once with u = 0 held at the base vertices (the

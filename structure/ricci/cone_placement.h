@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/ricci/curvature_target.h"
 #include "mspline/structure/mesh/tri_mesh.h"
 
@@ -33,7 +34,7 @@ struct ConePlacementOptions {
   int maxCones = 64;
   /// Automatic placement goes on while a cone angle 2 pi - curvature is below this (radians):
   /// nearly degenerate cones make the Newton solve hard. Default pi / 4.
-  double minConeAngle = 0.78539816339744831;
+  double minConeAngle = kPi / 4;
   /// A new cone is at least this many edges away from every other cone and from the boundary.
   int minSeparation = 2;
   /// Round every cone curvature to a multiple k pi / 2 (see ConePlacementResult::quarterTurns).

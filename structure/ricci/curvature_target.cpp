@@ -4,13 +4,13 @@
 #include <cmath>
 #include <sstream>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/topology/topology.h"
 
 namespace mspline::structure {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 }  // namespace
 
 CurvatureTarget flatTarget(const TriMesh& mesh, const std::vector<Cone>& cones,

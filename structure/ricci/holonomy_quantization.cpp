@@ -6,6 +6,7 @@
 #include <deque>
 #include <utility>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/topology/homotopy_basis.h"
 #include "mspline/structure/core/index_map.h"
@@ -15,8 +16,6 @@
 namespace mspline::structure {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 void requireClosedSurface(const TriMesh& mesh) {
   requireConnectedManifold(mesh);

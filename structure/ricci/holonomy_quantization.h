@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/ricci/curvature_target.h"
 #include "mspline/structure/mesh/tri_mesh.h"
 
@@ -59,7 +60,7 @@ Eigen::SparseMatrix<double> holonomyJacobian(const TriMesh& mesh, const Eigen::V
 struct HolonomyQuantizationOptions {
   /// Loop rotations are moved to the nearest multiple of this (radians); pi/2 suits quad layouts
   /// and T-spline knot grids.
-  double quantum = 1.5707963267948966;
+  double quantum = kPi / 2;
   /// Converged when every residual is at most this (radians); the atlas judges quarter turns to
   /// 1e-9.
   double tolerance = 1e-11;

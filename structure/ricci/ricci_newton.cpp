@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/core/index_map.h"
 #include "mspline/structure/core/sparse_cholesky.h"
@@ -14,8 +15,6 @@
 namespace mspline::structure {
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 double maxAbsOnUnknowns(const Eigen::VectorXd& perVertex, const IndexMap& unknowns) {
   return unknowns.size() == 0 ? 0.0 : unknowns.gather(perVertex).cwiseAbs().maxCoeff();

@@ -3,13 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
 
 namespace mspline::structure {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kLog2 = 0.693147180559945309417;
 
 // Two power series of the Clausen integral Cl2(t) = -int_0^t log|2 sin(s/2)| ds on [0, pi], split

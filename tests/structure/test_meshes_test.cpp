@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/mesh/mesh_statistics.h"
 #include "support/test_meshes.h"
@@ -66,7 +67,7 @@ Shape shapeOf(const TriMesh& mesh) {
       const auto a = p[(k + 1) % 3] - p[k], b = p[(k + 2) % 3] - p[k];
       const double angle =
           std::acos(std::clamp(OpenMesh::dot(a, b) / (a.norm() * b.norm()), -1.0, 1.0));
-      s.minAngleDegrees = std::min(s.minAngleDegrees, angle * 180 / M_PI);
+      s.minAngleDegrees = std::min(s.minAngleDegrees, angle * 180 / mspline::kPi);
     }
   }
   return s;
@@ -114,7 +115,7 @@ TEST_CASE("test_meshes: torus is a closed genus-1 surface", "[structure]") {
   const Shape s = shapeOf(mesh);
   requireClean(s, 0, 0, 20);
   // Enclosed volume of the exact torus is 2 pi^2 R r^2; the polyhedron is slightly smaller.
-  const double exact = 2 * M_PI * M_PI * 1.0 * 0.4 * 0.4;
+  const double exact = 2 * mspline::kPi * mspline::kPi * 1.0 * 0.4 * 0.4;
   CHECK(s.signedVolume > 0.9 * exact);
   CHECK(s.signedVolume < exact);
 }
@@ -126,7 +127,7 @@ TEST_CASE("test_meshes: icosphere is a closed outward unit sphere", "[structure]
     const Shape s = shapeOf(mesh);
     requireClean(s, 2, 0, 50);
     CHECK(s.signedVolume > 0);
-    CHECK(s.signedVolume < 4 * M_PI / 3);
+    CHECK(s.signedVolume < 4 * mspline::kPi / 3);
     for (const auto v : mesh.vertices()) CHECK(mesh.point(v).norm() == Approx(1.0));
   }
   CHECK(test::icosphere(3).n_vertices() == 642u);

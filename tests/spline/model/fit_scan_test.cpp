@@ -40,17 +40,31 @@ void checkFit(const spline::FitResult& fit, const structure::TriMesh& scan,
   CHECK(fit.flatten.converged);
 }
 
+spline::FitOptions fitOptions(spline::FitKind kind, int maxControl, double tolerance,
+                              int correctionRounds, int maxRefinements = 6) {
+  spline::FitOptions options;
+  options.kind = kind;
+  options.maxControl = maxControl;
+  options.tolerance = tolerance;
+  options.correctionRounds = correctionRounds;
+  options.maxRefinements = maxRefinements;
+  return options;
+}
+
+// fitScan of the real mesh `name`, checked by checkFit.
+spline::FitResult checkedFit(const std::string& name, const spline::FitOptions& options) {
+  const structure::TriMesh scan = test::realMesh(name);
+  spline::FitResult fit = spline::fitScan(scan, options);
+  checkFit(fit, scan, options);
+  return fit;
+}
+
 }  // namespace
 
 TEST_CASE("fit_scan: genus-1 knot, a T-spline refined within the budget", "[spline]") {
-  const structure::TriMesh scan = test::realMesh("knot1.off");
-  spline::FitOptions options;
-  options.maxControl = 500;
-  options.tolerance = 3e-3;
-  options.correctionRounds = 2;
+  spline::FitOptions options = fitOptions(spline::FitKind::TSpline, 500, 3e-3, 2);
   options.flatten.name = "knot1.off";
-  const spline::FitResult fit = spline::fitScan(scan, options);
-  checkFit(fit, scan, options);
+  const spline::FitResult fit = checkedFit("knot1.off", options);
   CHECK(fit.model.kind == spline::SplineKind::TSpline);
   CHECK(fit.withinBudget);
   CHECK(fit.filledHoles == 0);
@@ -63,25 +77,16 @@ TEST_CASE("fit_scan: genus-1 knot, a T-spline refined within the budget", "[spli
 }
 
 TEST_CASE("fit_scan: triangular B-spline on the knot, subd on the genus-2 eight", "[spline]") {
-  const structure::TriMesh knot = test::realMesh("knot1.off");
-  spline::FitOptions options;
-  options.kind = spline::FitKind::TriBSpline;
-  options.maxControl = 500;
-  options.tolerance = 3e-3;
-  options.correctionRounds = 1;
-  const spline::FitResult tri = spline::fitScan(knot, options);
-  checkFit(tri, knot, options);
+  const spline::FitResult tri =
+      checkedFit("knot1.off", fitOptions(spline::FitKind::TriBSpline, 500, 3e-3, 1));
   CHECK(tri.model.kind == spline::SplineKind::TriangularBSpline);
   // The domain shrinks until the budget holds: 10 functions per cubic face.
   CHECK(tri.withinBudget);
   CHECK(10 * tri.domain.faces == tri.model.controlPoints.rows());
   CHECK(tri.domain.cones == 0);
 
-  const structure::TriMesh eight = test::realMesh("eight.off");
-  options.kind = spline::FitKind::Subd;
-  options.maxControl = 400;
-  const spline::FitResult subd = spline::fitScan(eight, options);
-  checkFit(subd, eight, options);
+  const spline::FitResult subd =
+      checkedFit("eight.off", fitOptions(spline::FitKind::Subd, 400, 3e-3, 1));
   CHECK(subd.model.kind == spline::SplineKind::Subdivision);
   CHECK_FALSE(subd.grid.torus);
   CHECK(subd.rounds.size() == 1);
@@ -90,42 +95,25 @@ TEST_CASE("fit_scan: triangular B-spline on the knot, subd on the genus-2 eight"
 
 TEST_CASE("fit_scan: a budget the domain cannot meet ends, reported over budget", "[spline]") {
   // The genus-2 eight with its cones kept apart needs more than 10 domain faces.
-  const structure::TriMesh eight = test::realMesh("eight.off");
-  spline::FitOptions options;
-  options.kind = spline::FitKind::TriBSpline;
-  options.maxControl = 100;
-  options.correctionRounds = 0;
-  options.maxRefinements = 0;
-  const spline::FitResult fit = spline::fitScan(eight, options);
-  checkFit(fit, eight, options);
+  const spline::FitResult fit =
+      checkedFit("eight.off", fitOptions(spline::FitKind::TriBSpline, 100, 1e-3, 0, 0));
   CHECK_FALSE(fit.withinBudget);
 }
 
 TEST_CASE("fit_scan: a scan with holes is fitted with fills, measured only on the scan",
           "[spline]") {
-  const structure::TriMesh scan = test::realMesh("head.off");
-  spline::FitOptions options;
-  options.kind = spline::FitKind::Subd;
-  options.maxControl = 800;
-  options.tolerance = 5e-3;
-  options.correctionRounds = 1;
-  const spline::FitResult fit = spline::fitScan(scan, options);
-  checkFit(fit, scan, options);
+  const spline::FitResult fit =
+      checkedFit("head.off", fitOptions(spline::FitKind::Subd, 800, 5e-3, 1));
   CHECK(fit.filledHoles > 0);
   REQUIRE(fit.model.surfaceFaceFilled.size() == fit.model.surfaceFaces.size());
-  CHECK(fit.errors.measured <= int(scan.n_vertices()));
+  // Only the scan's vertices are measured, not the fills'.
+  CHECK(fit.errors.measured <= int(test::realMesh("head.off").n_vertices()));
+  CHECK(fit.errors.measured < int(fit.model.surfaceVertices.rows()));
 }
 
 TEST_CASE("fit_scan: an unreachable tolerance is reported, not thrown", "[spline]") {
-  const structure::TriMesh scan = test::realMesh("knot1.off");
-  spline::FitOptions options;
-  options.kind = spline::FitKind::TriBSpline;
-  options.maxControl = 300;
-  options.tolerance = 1e-6;
-  options.correctionRounds = 0;
-  options.maxRefinements = 1;
-  const spline::FitResult fit = spline::fitScan(scan, options);
-  checkFit(fit, scan, options);
+  const spline::FitOptions options = fitOptions(spline::FitKind::TriBSpline, 300, 1e-6, 0, 1);
+  const spline::FitResult fit = checkedFit("knot1.off", options);
   CHECK_FALSE(fit.reachedTolerance);
   CHECK(fit.rounds.size() == 2);
   CHECK(fit.correctionRounds == 0);
@@ -134,11 +122,7 @@ TEST_CASE("fit_scan: an unreachable tolerance is reported, not thrown", "[spline
 
 TEST_CASE("fit_scan: a model is measured only against the scan it was fitted to", "[spline]") {
   const structure::TriMesh knot = test::realMesh("knot1.off");
-  spline::FitOptions options;
-  options.kind = spline::FitKind::TriBSpline;
-  options.maxControl = 300;
-  options.correctionRounds = 0;
-  options.maxRefinements = 0;
+  const spline::FitOptions options = fitOptions(spline::FitKind::TriBSpline, 300, 1e-3, 0, 0);
   const spline::FitResult fit = spline::fitScan(knot, options);
   CHECK_THROWS_AS(spline::measureAgainstScan(fit.model, test::realMesh("eight.off")),
                   structure::InputError);

@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 
 #include "mspline/structure/atlas/affine_atlas.h"
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/ricci/cone_placement.h"
 #include "mspline/structure/ricci/curvature_target.h"
 #include "mspline/structure/layout/flat_layout.h"
@@ -22,8 +23,6 @@ using structure::RigidMotion;
 using structure::TriMesh;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // A flat metric as flatten computes it (the input triangulation, or the overlay after flips), laid
 // out.

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/ricci/cone_placement.h"
 #include "mspline/structure/ricci/curvature_target.h"
 #include "mspline/structure/layout/flat_layout.h"
@@ -22,11 +23,11 @@ TEST_CASE("intrinsic_flattening: mannequin-devil with a circular boundary, doubl
   for (const auto v : mesh.vertices())
     if (mesh.is_boundary(v)) loop.push_back(v.idx());
   std::vector<structure::Cone> boundary;
-  for (int v : loop) boundary.push_back({v, 2 * 3.14159265358979323846 / double(loop.size())});
+  for (int v : loop) boundary.push_back({v, 2 * kPi / double(loop.size())});
   const auto target = structure::flatTarget(
       mesh, boundary, structure::BoundaryCondition::PrescribedGeodesicCurvature);
   structure::RicciNewtonOptions options;
-  options.tolerance = 1e-10 / (2 * 3.14159265358979323846);
+  options.tolerance = 1e-10 / (2 * kPi);
   const auto result = structure::flattenWithFlips(mesh, target, options);
   INFO(result.solve.ricci.message);
   REQUIRE(result.solve.ricci.converged);

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <random>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/ricci/cone_placement.h"
 #include "mspline/structure/ricci/curvature_target.h"
 #include "mspline/structure/layout/flat_layout.h"
@@ -19,8 +20,6 @@ using structure::IntrinsicTriangulation;
 using structure::TriMesh;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 double triangleArea(double a, double b, double c) {
   return 0.25 * structure::fourTimesArea(a, b, c);

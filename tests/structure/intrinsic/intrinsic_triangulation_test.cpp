@@ -3,6 +3,7 @@
 #include <cmath>
 #include <random>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/core/index_map.h"
 #include "mspline/structure/intrinsic/intrinsic_triangulation.h"
@@ -15,8 +16,6 @@ using structure::IntrinsicTriangulation;
 using structure::TriMesh;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Two triangles (p0, p1, p2) and (p0, p2, p3) sharing the diagonal p0 p2.
 TriMesh quadrilateral(const std::array<OpenMesh::Vec3d, 4>& p) {

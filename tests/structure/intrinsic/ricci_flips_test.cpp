@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/ricci/cone_placement.h"
 #include "mspline/structure/ricci/curvature_target.h"
 #include "mspline/structure/intrinsic/ricci_flips.h"
@@ -17,8 +18,6 @@ using structure::RicciStatus;
 using structure::TriMesh;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Solves with flips, reports the figures, and checks the result independently: curvatures from
 // the returned intrinsic edge lengths and faces, Gauss-Bonnet, valid triangles, Delaunay.

@@ -8,6 +8,7 @@
 
 #include <Eigen/Dense>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/layout/coarse_triangulation.h"
 #include "mspline/structure/ricci/cone_placement.h"
 #include "mspline/structure/ricci/curvature_target.h"
@@ -25,8 +26,6 @@ using structure::CoarseTriangulation;
 using structure::TriMesh;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 using Flat = test::FlatMetric;
 

@@ -4,6 +4,7 @@
 #include <random>
 #include <vector>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/layout/motorcycle_layout.h"
 #include "support/flat_metric.h"
@@ -97,7 +98,7 @@ TEST_CASE("motorcycle_layout: metrics it cannot lay out are refused", "[structur
   const structure::TriMesh sphere = test::icosphere(2);
   // Twelve cones of angle 5 pi / 3 (an icosahedron's): not multiples of pi/2.
   std::vector<structure::Cone> cones;
-  for (int v = 0; v < 12; ++v) cones.push_back({v, M_PI / 3.0});
+  for (int v = 0; v < 12; ++v) cones.push_back({v, kPi / 3.0});
   const test::FlatMetric icosahedral = test::flatMetric(sphere, cones);
   CHECK_THROWS_WITH(MotorcycleLayout(icosahedral.surface, icosahedral.lengths),
                     Catch::Contains("quarter turns") || Catch::Contains("multiple of pi/2"));

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/mesh/cap_holes.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/mesh/polygon_soup.h"
@@ -22,8 +23,6 @@ using structure::TriMesh;
 using Vec3 = OpenMesh::Vec3d;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 std::array<int, 3> faceVertices(const TriMesh& mesh, int f) {
   std::array<int, 3> v{};

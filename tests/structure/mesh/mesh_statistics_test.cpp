@@ -1,3 +1,4 @@
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/mesh/mesh_statistics.h"
 
 #include <catch2/catch.hpp>
@@ -25,8 +26,8 @@ TEST_CASE("mesh_statistics: icosphere approaches the unit sphere", "[structure]"
   CHECK(coarse.medianAngleDegrees == Approx(60.0).epsilon(1e-12));
   auto fine = structure::meshStatistics(test::icosphere(4));
   CHECK(fine.bboxDiagonal == Approx(2 * std::sqrt(3.0)).epsilon(1e-3));
-  CHECK(fine.area == Approx(4 * M_PI).epsilon(2e-3));
-  CHECK(fine.area < 4 * M_PI);  // inscribed polyhedra have less area than the sphere
+  CHECK(fine.area == Approx(4 * kPi).epsilon(2e-3));
+  CHECK(fine.area < 4 * kPi);  // inscribed polyhedra have less area than the sphere
 }
 
 TEST_CASE("mesh_statistics: empty mesh gives zeros", "[structure]") {
@@ -37,7 +38,7 @@ TEST_CASE("mesh_statistics: empty mesh gives zeros", "[structure]") {
 
 TEST_CASE("mesh_statistics: icosahedron edge, area and bounding box", "[structure]") {
   auto stats = structure::meshStatistics(test::icosphere(0));
-  const double edge = 1 / std::sin(2 * M_PI / 5);  // circumradius 1
+  const double edge = 1 / std::sin(2 * kPi / 5);  // circumradius 1
   const double golden = (1 + std::sqrt(5.0)) / 2;
   const double extent = golden / std::sqrt(1 + golden * golden);
   CHECK(stats.minEdgeLength == Approx(edge));

@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/ricci/circle_packing_energy.h"
 #include "mspline/structure/ricci/curvature_target.h"
 #include "mspline/structure/ricci/ricci_newton.h"
@@ -19,8 +20,6 @@ using structure::Cone;
 using structure::TriMesh;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 enum class Scheme { Thurston, Inversive };
 

@@ -6,6 +6,7 @@
 
 #include <Eigen/SparseCholesky>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/ricci/cone_file.h"
 #include "mspline/structure/ricci/cone_placement.h"
 #include "mspline/structure/ricci/curvature_target.h"
@@ -25,8 +26,6 @@ using structure::RicciStatus;
 using structure::TriMesh;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 double curvatureSum(const std::vector<Cone>& cones) {
   double sum = 0.0;

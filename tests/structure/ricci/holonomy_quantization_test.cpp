@@ -4,6 +4,7 @@
 #include <random>
 
 #include "mspline/structure/atlas/affine_atlas.h"
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/ricci/cone_placement.h"
 #include "mspline/structure/ricci/curvature_target.h"
 #include "mspline/structure/core/errors.h"
@@ -18,8 +19,6 @@ using structure::DualLoop;
 using structure::TriMesh;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // The faces around vertex v, each left by its edge from v: a small dual loop.
 DualLoop loopAround(const TriMesh& mesh, int v) {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/ricci/curvature_target.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/ricci/ricci_newton.h"
@@ -17,8 +18,6 @@ using structure::RicciStatus;
 using structure::TriMesh;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Solves, reports the run, and checks what every converged solve must satisfy, recomputing the
 // curvatures independently from the returned edge lengths.

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <random>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/topology/topology.h"
 #include "mspline/structure/ricci/vertex_scaling_energy.h"
 #include "support/test_data.h"
@@ -12,8 +13,6 @@ using namespace mspline;
 using structure::TriMesh;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // -int_0^x log(2 sin t) dt for 0 < x < pi: the singular part log(2t) integrated exactly, the
 // smooth rest log(sin t / t) by composite Simpson.

@@ -2,6 +2,7 @@
 #include <set>
 
 #include "mspline/io/load_mesh.h"
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/topology/homotopy_basis.h"
 #include "mspline/structure/mesh/polygon_soup.h"
@@ -54,7 +55,7 @@ TEST_CASE("homotopy_basis: torus loops are closed and the shortest is the tube's
   CHECK(basis.boundaryLoops.empty());
   // The minor circle (8 edges of 2 * 0.4 * sin(pi / 8)) is the shortest non-contractible loop
   // through any vertex; the greedy basis must find it.
-  const double minor = 8 * 2 * 0.4 * std::sin(3.14159265358979323846 / 8);
+  const double minor = 8 * 2 * 0.4 * std::sin(kPi / 8);
   CHECK(std::min(basis.lengths[0], basis.lengths[1]) == Approx(minor).epsilon(1e-9));
   CHECK(std::max(basis.lengths[0], basis.lengths[1]) > minor);
 }
