@@ -7,6 +7,7 @@
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/core/stopwatch.h"
 #include "mspline/structure/intrinsic/intrinsic_flattening.h"
+#include "mspline/structure/mesh/boundary_loops.h"
 #include "mspline/structure/ricci/circle_packing_energy.h"
 #include "mspline/structure/ricci/cone_placement.h"
 #include "mspline/structure/ricci/vertex_scaling_energy.h"
@@ -26,20 +27,6 @@ std::vector<Cone> chooseCones(const TriMesh& mesh, const FlattenOptions& options
   return placeCones(mesh, placement).cones;
 }
 
-std::vector<std::vector<int>> boundaryLoops(const TriMesh& mesh) {
-  std::vector<std::vector<int>> loops;
-  std::vector<char> seen(mesh.n_halfedges(), 0);
-  for (auto h : mesh.halfedges()) {
-    if (!mesh.is_boundary(h) || seen[h.idx()]) continue;
-    auto& loop = loops.emplace_back();
-    for (auto walk = h; !seen[walk.idx()]; walk = mesh.next_halfedge_handle(walk)) {
-      seen[walk.idx()] = 1;
-      loop.push_back(mesh.from_vertex_handle(walk).idx());
-    }
-  }
-  return loops;
-}
-
 // Geodesic curvatures for a disk whose boundary is prescribed: a circle (curvature spread by
 // boundary length) or a rectangle (pi/2 at four corners a quarter of the perimeter apart).
 std::vector<Cone> boundaryShape(const TriMesh& mesh, BoundaryShape shape,
@@ -54,8 +41,8 @@ std::vector<Cone> boundaryShape(const TriMesh& mesh, BoundaryShape shape,
   const std::size_t n = loop.size();
   std::vector<double> arc(n + 1, 0.0);  // arc length from loop[0] to loop[i]
   for (std::size_t i = 0; i < n; ++i) {
-    auto p = mesh.point(TriMesh::VertexHandle(loop[i]));
-    auto q = mesh.point(TriMesh::VertexHandle(loop[(i + 1) % n]));
+    auto p = mesh.point(loop[i]);
+    auto q = mesh.point(loop[(i + 1) % n]);
     arc[i + 1] = arc[i] + (q - p).norm();
   }
   double interior = 0.0;
@@ -66,7 +53,7 @@ std::vector<Cone> boundaryShape(const TriMesh& mesh, BoundaryShape shape,
     for (std::size_t i = 0; i < n; ++i) {
       const double before = arc[i == 0 ? n : i] - arc[i == 0 ? n - 1 : i - 1];
       const double after = arc[i + 1] - arc[i];
-      cones.push_back({loop[i], total * 0.5 * (before + after) / arc[n]});
+      cones.push_back({loop[i].idx(), total * 0.5 * (before + after) / arc[n]});
     }
     return cones;
   }
@@ -77,7 +64,7 @@ std::vector<Cone> boundaryShape(const TriMesh& mesh, BoundaryShape shape,
     std::size_t best = 0;
     for (std::size_t i = 0; i < n; ++i)
       if (std::abs(arc[i] - wanted) < std::abs(arc[best] - wanted)) best = i;
-    cones.push_back({loop[best], kPi / 2});
+    cones.push_back({loop[best].idx(), kPi / 2});
   }
   return cones;
 }

@@ -9,6 +9,7 @@
 #include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/core/sparse_cholesky.h"
+#include "mspline/structure/mesh/boundary_loops.h"
 
 namespace mspline::structure {
 
@@ -16,7 +17,7 @@ namespace {
 
 // The boundary loops in the direction of their boundary halfedges (vertex k to k + 1), which is
 // the direction the cap faces must traverse them in to keep the input's orientation.
-std::vector<std::vector<TriMesh::VertexHandle>> boundaryLoops(const TriMesh& mesh) {
+std::vector<std::vector<TriMesh::VertexHandle>> loopsToCap(const TriMesh& mesh) {
   // OpenMesh keeps a vertex where two boundary fans touch; its loops cannot get disjoint caps.
   std::vector<int> outgoing(mesh.n_vertices(), 0);
   for (auto h : mesh.halfedges())
@@ -24,22 +25,12 @@ std::vector<std::vector<TriMesh::VertexHandle>> boundaryLoops(const TriMesh& mes
       throw TopologyError("capping holes: boundary vertex " +
                           std::to_string(mesh.from_vertex_handle(h).idx()) +
                           " lies on two boundary loops (or twice on one); repair the mesh first");
-
-  std::vector<std::vector<TriMesh::VertexHandle>> loops;
-  std::vector<char> visited(mesh.n_halfedges(), 0);
-  for (auto start : mesh.halfedges()) {
-    if (!mesh.is_boundary(start) || visited[start.idx()]) continue;
-    std::vector<TriMesh::VertexHandle> loop;
-    for (auto h = start; !visited[h.idx()]; h = mesh.next_halfedge_handle(h)) {
-      visited[h.idx()] = 1;
-      loop.push_back(mesh.from_vertex_handle(h));
-    }
+  auto loops = boundaryLoops(mesh);
+  for (const auto& loop : loops)
     if (loop.size() < 3)
       throw TopologyError("capping holes: the boundary loop through vertex " +
                           std::to_string(loop.front().idx()) + " has " +
                           std::to_string(loop.size()) + " edges; a cap needs at least 3");
-    loops.push_back(std::move(loop));
-  }
   return loops;
 }
 
@@ -160,7 +151,7 @@ CappedSurface capHoles(const TriMesh& mesh, const CapOptions& options) {
     throw InputError("capping holes: the fairing order must be 1 or 2, not " +
                      std::to_string(options.fairingOrder));
 
-  const auto loops = boundaryLoops(mesh);
+  const auto loops = loopsToCap(mesh);
   CappedSurface result{mesh, {}, {}, loops.size(), {}};
   const int firstCap = static_cast<int>(mesh.n_vertices());
   for (const auto& loop : loops) {

@@ -1,6 +1,5 @@
 #include "mspline/structure/ricci/cone_file.h"
 
-#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -10,6 +9,7 @@
 #include <sstream>
 
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/core/text_records.h"
 
 namespace mspline::structure {
 
@@ -38,26 +38,16 @@ bool parseCurvature(const std::string& token, double& value) {
 std::vector<Cone> parseConeList(const std::string& text, const std::string& sourceName) {
   std::vector<Cone> cones;
   std::set<int> seen;
-  std::istringstream in(text);
-  std::string line;
-  for (int lineNumber = 1; std::getline(in, line); ++lineNumber) {
-    const std::string content = line.substr(0, line.find('#'));
-    std::istringstream fields(content);
-    std::vector<std::string> tokens;
-    for (std::string token; fields >> token;) tokens.push_back(token);
-    if (tokens.empty()) continue;
-    const std::string where = sourceName + ":" + std::to_string(lineNumber) + ": ";
+  for (const TextRecord& record : textRecords(text)) {
+    const std::vector<std::string>& tokens = record.fields;
+    const std::string where = sourceName + ":" + std::to_string(record.line) + ": ";
     Cone cone;
     if (tokens.size() != 2 || !parseVertex(tokens[0], cone.vertex) ||
-        !parseCurvature(tokens[1], cone.curvature)) {
-      std::string shown = content;
-      while (!shown.empty() && std::isspace(static_cast<unsigned char>(shown.back())))
-        shown.pop_back();
+        !parseCurvature(tokens[1], cone.curvature))
       throw InputError(where +
                        "expected '<vertex> <curvature>' (a vertex index >= 0 and a "
                        "curvature in radians), got '" +
-                       shown + "'");
-    }
+                       record.content + "'");
     if (!seen.insert(cone.vertex).second)
       throw InputError(where + "vertex " + std::to_string(cone.vertex) + " is listed twice");
     cones.push_back(cone);

@@ -124,3 +124,27 @@ TEST_CASE("flatten_surface: boundary shapes") {
     CHECK_THROWS_AS(structure::flattenSurface(mesh, options), structure::InputError);
   }
 }
+
+TEST_CASE("flatten_surface: degenerate input triangles go on with intrinsic flips") {
+  // mannequin-devil's circular boundary makes input triangles degenerate: the flow continues on
+  // an intrinsic Delaunay triangulation of the doubled surface, and the overlay is laid out.
+  const TriMesh mesh = test::realMesh("mannequin-devil.off");
+  FlattenOptions options;
+  options.boundary = structure::BoundaryShape::Fixed;
+  const Flattening flat = structure::flattenSurface(mesh, options);
+  INFO(flat.message);
+  REQUIRE(flat.converged);
+  REQUIRE(flat.plainSolve);
+  CHECK(flat.plainSolve->message.find("intrinsic Delaunay flips are needed") != std::string::npos);
+  CHECK(flat.doubled);
+  CHECK(flat.flips > 0);
+  REQUIRE(flat.overlay);
+  CHECK(&flat.surface() == &flat.overlay->mesh);
+  CHECK(flat.overlay->maxLengthMismatch <= 1e-9);
+  CHECK(flat.flow.maxCurvatureError <= options.tolerance);
+  CHECK(flat.layout.flippedTriangles == 0);
+  CHECK(flat.flatLengths.size() == Eigen::Index(flat.overlay->mesh.n_edges()));
+  std::vector<std::string> stages;
+  for (const auto& [name, seconds] : flat.stageSeconds) stages.push_back(name);
+  CHECK(stages == std::vector<std::string>{"cones", "ricci_flow", "ricci_flow_flips", "layout"});
+}

@@ -1,0 +1,341 @@
+#include "python/src/model.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <random>
+#include <vector>
+
+#include <pybind11/numpy.h>
+#include <tbb/parallel_for.h>
+#include <Eigen/Geometry>
+
+#include "mspline/io/spline_model_file.h"
+#include "mspline/spline/fitting/surface_fit.h"
+#include "mspline/spline/tribspline/spline_domain.h"
+#include "mspline/structure/core/errors.h"
+#include "mspline/structure/mesh/closest_point.h"
+#include "python/src/arrays.h"
+
+namespace mspline::python {
+
+namespace {
+
+using spline::FitParameter;
+using spline::SplineKind;
+using spline::SplineModel;
+
+// The parameter domain's faces: a triangular B-spline's domain triangles (positions in the frame
+// of spline::canonicalCorners), a T-mesh's rectangles [0, width] x [0, height] otherwise.
+int faceCount(const SplineModel& model) {
+  return model.kind == SplineKind::TriangularBSpline ? model.domain.faceCount()
+                                                     : model.tmesh.numFaces();
+}
+
+bool insideFace(const SplineModel& model, int face, const Eigen::Vector2d& uv) {
+  constexpr double kSlack = 1e-9;  // relative to the face's size: positions on a side, rounded
+  if (model.kind == SplineKind::TriangularBSpline)
+    return spline::frameBarycentric(model.domain, face, uv).minCoeff() >= -kSlack;
+  const spline::TMeshFace& f = model.tmesh.faces[std::size_t(face)];
+  const double slack = kSlack * std::max(f.width, f.height);
+  return uv.x() >= -slack && uv.y() >= -slack && uv.x() <= f.width + slack &&
+         uv.y() <= f.height + slack;
+}
+
+// Uniform in the face (in its frame).
+Eigen::Vector2d randomPointInFace(const SplineModel& model, int face, std::mt19937_64& random) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  double s = unit(random), t = unit(random);
+  if (model.kind == SplineKind::TriangularBSpline) {
+    if (s + t > 1.0) {
+      s = 1.0 - s;
+      t = 1.0 - t;
+    }
+    const auto corners = spline::canonicalCorners(model.domain, face);
+    return corners[0] + s * (corners[1] - corners[0]) + t * (corners[2] - corners[0]);
+  }
+  const spline::TMeshFace& f = model.tmesh.faces[std::size_t(face)];
+  return {s * f.width, t * f.height};
+}
+
+// (faces, uvs) checked: a face of the domain each, its uv inside it.
+std::vector<FitParameter> toParameters(const Model& self, const IndexArray& faces,
+                                       const DoubleArray& uvs) {
+  if (faces.shape(0) != uvs.shape(0))
+    throw py::value_error("evaluate: " + std::to_string(faces.shape(0)) + " faces for " +
+                          std::to_string(uvs.shape(0)) + " uvs");
+  const auto face = faces.unchecked<1>();
+  const auto uv = uvs.unchecked<2>();
+  const int count = faceCount(self.model);
+  std::vector<FitParameter> parameters;
+  for (py::ssize_t k = 0; k < face.shape(0); ++k) {
+    if (face(k) < 0 || face(k) >= count)
+      throw py::value_error("evaluate: face " + std::to_string(face(k)) + " (entry " +
+                            std::to_string(k) + ") is not one of the model's " +
+                            std::to_string(count) + " faces");
+    const FitParameter p{int(face(k)), {uv(k, 0), uv(k, 1)}};
+    if (!insideFace(self.model, p.face, p.position))
+      throw py::value_error("evaluate: uv (" + std::to_string(uv(k, 0)) + ", " +
+                            std::to_string(uv(k, 1)) + ") (entry " + std::to_string(k) +
+                            ") lies outside face " + std::to_string(p.face));
+    parameters.push_back(p);
+  }
+  return parameters;
+}
+
+// The surface at every parameter, NaN where it is undefined (a cone point, a hole).
+Eigen::MatrixXd evaluateAll(const Model& self, const std::vector<FitParameter>& parameters) {
+  Eigen::MatrixXd points(Eigen::Index(parameters.size()), 3);
+  tbb::parallel_for(std::size_t(0), parameters.size(), [&](std::size_t k) {
+    points.row(Eigen::Index(k)) =
+        spline::evaluateFitSurface(self.surface->fitSpace(), self.model.controlPoints,
+                                   parameters[k])
+            .transpose();
+  });
+  return points;
+}
+
+py::dict parametersDict(const Model& self, const std::vector<FitParameter>& parameters) {
+  Eigen::MatrixXd uvs(Eigen::Index(parameters.size()), 2);
+  std::vector<std::int64_t> faces;
+  for (std::size_t k = 0; k < parameters.size(); ++k) {
+    faces.push_back(parameters[k].face);
+    uvs.row(Eigen::Index(k)) = parameters[k].position.transpose();
+  }
+  py::dict out;
+  out["faces"] = indexArray(faces);
+  out["uvs"] = pointsArray(uvs);
+  return out;
+}
+
+py::object evaluate(const Model& self, const py::handle& faces, const py::handle& uvs) {
+  py::array faceArray = py::array::ensure(faces);
+  const bool single = faceArray && faceArray.ndim() == 0;
+  if (single) faceArray = faceArray.reshape({py::ssize_t(1)});
+  const IndexArray faceIndices = indexMatrix(single ? py::handle(faceArray) : faces, "faces", 0);
+  const std::vector<FitParameter> parameters =
+      toParameters(self, faceIndices, realMatrix(uvs, "uvs", 2, single));
+  Eigen::MatrixXd points;
+  {
+    py::gil_scoped_release release;
+    points = evaluateAll(self, parameters);
+  }
+  DoubleArray out = pointsArray(points);
+  return single ? py::object(out.reshape({py::ssize_t(3)})) : py::object(out);
+}
+
+// Projections start from the closest point of a tessellation this fine.
+constexpr int kProjectionResolution = 4;
+constexpr int kProjectionSteps = 30;
+
+// The closest surface point to `target` found by Newton's method from the closest point of the
+// tessellation (its parameter interpolated from the triangle's corners when they lie in one
+// face) and from the triangle's corners (those that are surface points, not the means that close
+// a hole): the best of these local minima.
+spline::SurfaceProjection projectFromTriangle(const Model& self,
+                                              const spline::ModelTessellation& tessellation,
+                                              const structure::ClosestPoint& hit,
+                                              const Eigen::Vector3d& target) {
+  std::vector<FitParameter> starts;
+  FitParameter interpolated{-1, Eigen::Vector2d::Zero()};
+  const auto& corners = tessellation.mesh.faces[std::size_t(hit.face)];
+  for (std::size_t c = 0; c < 3; ++c) {
+    const std::int64_t v = corners[c];
+    if (std::binary_search(tessellation.meanVertices.begin(), tessellation.meanVertices.end(), v))
+      continue;
+    const FitParameter& corner =
+        tessellation.samplePoints[std::size_t(tessellation.sampleOffsets[std::size_t(v)])];
+    starts.push_back(corner);
+    if (c == 0) interpolated.face = corner.face;
+    if (corner.face == interpolated.face)
+      interpolated.position += hit.barycentric[Eigen::Index(c)] * corner.position;
+  }
+  if (starts.size() == 3 && interpolated.face == starts[1].face &&
+      interpolated.face == starts[2].face)
+    starts.insert(starts.begin(), interpolated);
+  spline::SurfaceProjection best{{}, std::numeric_limits<double>::quiet_NaN()};
+  for (const FitParameter& start : starts) {
+    const spline::SurfaceProjection projection = spline::projectOntoSurface(
+        self.surface->fitSpace(), self.model.controlPoints, start, target, kProjectionSteps);
+    if (std::isnan(best.distance) || projection.distance < best.distance) best = projection;
+  }
+  return best;
+}
+
+py::dict project(const Model& self, const py::handle& points) {
+  const Eigen::MatrixX3d targets = toPoints(realMatrix(points, "points", 3));
+  std::vector<FitParameter> parameters(std::size_t(targets.rows()));
+  Eigen::VectorXd distances(targets.rows());
+  Eigen::MatrixXd closest;
+  {
+    py::gil_scoped_release release;
+    const spline::ModelTessellation tessellation =
+        self.surface->tessellate(self.model.controlPoints, kProjectionResolution);
+    const structure::PolygonSoup& soup = tessellation.mesh;
+    Eigen::MatrixX3d positions(Eigen::Index(soup.positions.size()), 3);
+    for (std::size_t v = 0; v < soup.positions.size(); ++v)
+      positions.row(Eigen::Index(v)) << soup.positions[v][0], soup.positions[v][1],
+          soup.positions[v][2];
+    std::vector<std::array<int, 3>> triangles;
+    for (const auto& f : soup.faces) triangles.push_back({int(f[0]), int(f[1]), int(f[2])});
+    const structure::TriangleMeshDistance near(positions, triangles);
+    const std::vector<structure::ClosestPoint> hits = near.queryAll(targets);
+    tbb::parallel_for(std::size_t(0), parameters.size(), [&](std::size_t k) {
+      const spline::SurfaceProjection projection = projectFromTriangle(
+          self, tessellation, hits[k], targets.row(Eigen::Index(k)).transpose());
+      parameters[k] = projection.parameter;
+      distances[Eigen::Index(k)] = projection.distance;
+    });
+    closest = evaluateAll(self, parameters);
+  }
+  py::dict out = parametersDict(self, parameters);
+  out["points"] = pointsArray(closest);
+  DoubleArray distanceArray(distances.size());
+  std::copy(distances.begin(), distances.end(), distanceArray.mutable_data());
+  out["distances"] = distanceArray;
+  return out;
+}
+
+// Per face, its area on the surface: the area element |S_s x S_t| summed over the space's
+// quadrature.
+std::vector<double> faceAreas(const Model& self) {
+  const spline::FitSpace& space = self.surface->fitSpace();
+  const Eigen::MatrixXd& control = self.model.controlPoints;
+  std::vector<FitParameter> nodes;
+  std::vector<double> weights;
+  space.quadrature(nodes, weights);
+  std::vector<double> areas(std::size_t(faceCount(self.model)), 0.0);
+  std::vector<spline::FitBasisTerm> terms;
+  for (std::size_t k = 0; k < nodes.size(); ++k) {
+    space.basisAt(nodes[k], terms, 1);
+    Eigen::Vector3d ds = Eigen::Vector3d::Zero(), dt = Eigen::Vector3d::Zero();
+    for (const auto& term : terms) {
+      ds += term.ds * control.row(term.index).transpose();
+      dt += term.dt * control.row(term.index).transpose();
+    }
+    areas[std::size_t(nodes[k].face)] += weights[k] * ds.cross(dt).norm();
+  }
+  return areas;
+}
+
+py::dict sample(const Model& self, int count, unsigned long long seed) {
+  if (count < 0) throw py::value_error("sample: a negative count (" + std::to_string(count) + ")");
+  std::vector<FitParameter> parameters;
+  Eigen::MatrixXd points(count, 3);
+  {
+    py::gil_scoped_release release;
+    const std::vector<double> areas = faceAreas(self);
+    if (!(std::accumulate(areas.begin(), areas.end(), 0.0) > 0.0))
+      throw structure::InputError(self.name + ": the surface has no area to sample");
+    std::mt19937_64 random(seed);
+    std::discrete_distribution<int> pickFace(areas.begin(), areas.end());
+    // Points where the surface is undefined (a cone point, a T-spline's hole) are drawn again.
+    constexpr int kAttempts = 1000;
+    for (int k = 0; k < count; ++k) {
+      for (int attempt = 0;; ++attempt) {
+        const int face = pickFace(random);
+        const FitParameter p{face, randomPointInFace(self.model, face, random)};
+        const Eigen::Vector3d point =
+            spline::evaluateFitSurface(self.surface->fitSpace(), self.model.controlPoints, p);
+        if (point.allFinite()) {
+          parameters.push_back(p);
+          points.row(k) = point.transpose();
+          break;
+        }
+        if (attempt == kAttempts)
+          throw structure::SolverError(self.name + ": no defined surface point in " +
+                                       std::to_string(kAttempts) + " random draws");
+      }
+    }
+  }
+  py::dict out = parametersDict(self, parameters);
+  out["points"] = pointsArray(points);
+  return out;
+}
+
+py::tuple tessellate(const Model& self, int resolution) {
+  spline::ModelTessellation tessellation;
+  {
+    py::gil_scoped_release release;
+    tessellation = self.surface->tessellate(self.model.controlPoints, resolution);
+  }
+  return py::make_tuple(pointsArray(tessellation.mesh.positions),
+                        trianglesArray(tessellation.mesh.faces), pointsArray(tessellation.normals));
+}
+
+// A writable view of the control points (column-major, as Eigen holds them): edits in place
+// reach the model; the view keeps the model alive.
+py::array controlPointsView(const py::object& object) {
+  Eigen::MatrixXd& control = object.cast<Model&>().model.controlPoints;
+  const auto rows = py::ssize_t(control.rows()), columns = py::ssize_t(control.cols());
+  const auto size = py::ssize_t(sizeof(double));
+  return py::array_t<double>({rows, columns}, {size, size * rows}, control.data(), object);
+}
+
+void setControlPoints(Model& self, const py::handle& value) {
+  Eigen::MatrixXd& control = self.model.controlPoints;
+  const DoubleArray array = realMatrix(value, "control_points", 3);
+  const auto values = array.unchecked<2>();
+  if (values.shape(0) != control.rows())
+    throw py::value_error("control_points: expected shape (" + std::to_string(control.rows()) +
+                          ", 3), got (" + std::to_string(values.shape(0)) + ", 3)");
+  // Element by element into the same storage: views handed out before stay valid.
+  for (Eigen::Index i = 0; i < control.rows(); ++i)
+    for (Eigen::Index j = 0; j < 3; ++j) control(i, j) = values(i, j);
+}
+
+}  // namespace
+
+Model::Model(spline::SplineModel splineModel, std::string modelName)
+    : model(std::move(splineModel)),
+      name(std::move(modelName)),
+      surface(std::make_unique<spline::ModelSurface>(model, name)) {}
+
+py::class_<Model> bindModel(py::module_& module) {
+  return py::class_<Model>(module, "Model",
+                           "A spline surface: a triangular B-spline, a T-spline or a subdivision "
+                           "surface on a flat structure of a mesh, with its control points.")
+      .def_property_readonly(
+          "kind", [](const Model& self) { return self.surface->kindName(); },
+          "'tribspline', 'tspline' or 'subd'")
+      .def_readonly("name", &Model::name, "Names the model (its file, or the fitted scan)")
+      .def_property_readonly(
+          "face_count", [](const Model& self) { return faceCount(self.model); },
+          "Faces of the parameter domain (what evaluate's faces index)")
+      .def_property("control_points", &controlPointsView, &setControlPoints,
+                    "float64 (n, 3): a writable view; assigning needs the same shape")
+      .def_property_readonly(
+          "fit_report",
+          [](const Model& self) { return self.fitReport ? self.fitReport : py::none(); },
+          "The fit's figures (dict) for a fitted model, None for a loaded one")
+      .def("evaluate", &evaluate, py::arg("face"), py::arg("uv"),
+           "The surface point at a domain face and a position uv in its frame: (3,) for one "
+           "face and uv (2,), (n, 3) for faces (n,) and uvs (n, 2); NaN where the surface is "
+           "undefined (a cone point, a T-spline's hole). ValueError for a face out of range or "
+           "a uv outside its face.")
+      .def("project", &project, py::arg("points"),
+           "Closest surface points of points (n, 3) (Newton's method from the nearest point of "
+           "a tessellation): dict of points (n, 3), faces (n,), uvs (n, 2), distances (n,).")
+      .def("sample", &sample, py::arg("n"), py::arg("seed") = 0,
+           "n random surface points, spread by area (faces drawn by their surface area, uv "
+           "uniform in the face): dict of points (n, 3), faces (n,), uvs (n, 2).")
+      .def("tessellate", &tessellate, py::arg("resolution") = 4,
+           "Triangles sampling every face `resolution` times along each side: "
+           "(vertices (n, 3), triangles (m, 3), unit normals (n, 3)).")
+      .def(
+          "save",
+          [](const Model& self, const py::handle& path) {
+            const std::string file = pathString(path);
+            py::gil_scoped_release release;
+            io::writeSplineModel(file, self.model);
+          },
+          py::arg("path"), "Writes the model file (.msp), atomically.")
+      .def("__repr__", [](const Model& self) {
+        return "<mspline.Model " + self.surface->kindName() + " with " +
+               std::to_string(self.model.controlPoints.rows()) + " control points>";
+      });
+}
+
+}  // namespace mspline::python
