@@ -19,9 +19,9 @@
 #include <vector>
 
 #include "mspline/io/load_mesh.h"
-#include "mspline/structure/mesh/cotan_laplacian.h"
 #include "mspline/structure/core/index_map.h"
 #include "mspline/structure/core/sparse_cholesky.h"
+#include "mspline/structure/mesh/cotan_laplacian.h"
 #include "mspline/structure/mesh/subdivide.h"
 
 using namespace mspline;

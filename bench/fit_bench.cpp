@@ -1,8 +1,8 @@
 // Benchmark: `mspline fit` (issue 7) on scans of about 10k to 1M+ vertices, to give the fitting
 // time per scan vertex and how it grows with the scan. The scans are a real closed scan subdivided
-// 1-to-4 (structure/mesh/subdivide.h) to at least 90% of each size asked; sizes below the scan come from
-// a smaller real scan subdivided the same way.
-// Every size runs the real command as a child process (`mspline fit SCAN -o MODEL --kind KIND
+// 1-to-4 (structure/mesh/subdivide.h) to at least 90% of each size asked; sizes below the scan come
+// from a smaller real scan subdivided the same way. Every size runs the real command as a child
+// process (`mspline fit SCAN -o MODEL --kind KIND
 // --tolerance 1e-3 --max-control 8000 --json`) so the figures are what a user sees: its JSON
 // report, its peak resident memory, and its progress lines on stderr, timestamped here, which show
 // where a run that fails or passes the time limit spent its time.

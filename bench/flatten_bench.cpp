@@ -17,15 +17,16 @@
 
 #include "mspline/io/load_mesh.h"
 #include "mspline/structure/atlas/affine_atlas.h"
-#include "mspline/structure/ricci/cone_placement.h"
-#include "mspline/structure/mesh/cotan_laplacian.h"
-#include "mspline/structure/layout/flat_layout.h"
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/index_map.h"
+#include "mspline/structure/core/sparse_cholesky.h"
 #include "mspline/structure/intrinsic/intrinsic_overlay.h"
 #include "mspline/structure/intrinsic/ricci_flips.h"
-#include "mspline/structure/ricci/ricci_newton.h"
-#include "mspline/structure/core/sparse_cholesky.h"
+#include "mspline/structure/layout/flat_layout.h"
+#include "mspline/structure/mesh/cotan_laplacian.h"
 #include "mspline/structure/mesh/subdivide.h"
+#include "mspline/structure/ricci/cone_placement.h"
+#include "mspline/structure/ricci/ricci_newton.h"
 
 using namespace mspline;
 using Clock = std::chrono::steady_clock;
@@ -81,15 +82,15 @@ void runSize(const structure::TriMesh& base, std::size_t faces) {
     char summary[160];
     double quarterTurnError = 0.0;
     for (const auto& t : atlas.transitions) {
-      const double quarters = t.motion.angle / (3.14159265358979323846 / 2);
+      const double quarters = t.motion.angle / (kPi / 2);
       quarterTurnError = std::max(quarterTurnError, std::abs(quarters - std::round(quarters)));
     }
     std::snprintf(summary, sizeof summary,
                   "%zu charts, %s (quarter turns to %.1e rad, flatness defect %.1e), residuals "
                   "%.1e / %.1e",
                   atlas.charts.size(), structure::transitionKindName(atlas.kind),
-                  quarterTurnError * 3.14159265358979323846 / 2, atlas.flatnessDefect,
-                  atlas.maxTransitionResidual, atlas.maxCocycleResidual);
+                  quarterTurnError * kPi / 2, atlas.flatnessDefect, atlas.maxTransitionResidual,
+                  atlas.maxCocycleResidual);
     atlasSummary = summary;
   }
 

@@ -42,8 +42,9 @@
 #include "mspline/io/load_mesh.h"
 #include "mspline/io/spline_model_file.h"
 #include "mspline/spline/subd/catmull_clark_limit.h"
-#include "mspline/spline/tribspline/tri_bspline.h"
 #include "mspline/spline/subd/triangle_quad_split.h"
+#include "mspline/spline/tribspline/tri_bspline.h"
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/ricci/vertex_scaling_energy.h"
 
 using namespace mspline;
@@ -86,7 +87,7 @@ struct QuadNet {
 QuadNet torusNet(int n) {
   QuadNet net;
   net.points.resize(n * n, 3);
-  const double pi = 3.14159265358979323846;
+  const double pi = kPi;
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       const double a = 2 * pi * i / n, b = 2 * pi * j / n, r = 1.0 + 0.4 * std::cos(b);
@@ -116,8 +117,8 @@ std::vector<spline::FaceParameter> randomSamples(int faces, unsigned seed) {
 }
 
 // Random points of a spline domain, uniform by area in its flat metric.
-std::vector<spline::DomainPoint> randomDomainPoints(const spline::SplineDomain& domain,
-                                                    unsigned seed) {
+std::vector<spline::SurfacePoint> randomDomainPoints(const spline::SplineDomain& domain,
+                                                     unsigned seed) {
   std::vector<double> cumulative;
   double total = 0.0;
   for (const auto& l : domain.sideLengths) {
@@ -126,7 +127,7 @@ std::vector<spline::DomainPoint> randomDomainPoints(const spline::SplineDomain& 
   }
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<spline::DomainPoint> points;
+  std::vector<spline::SurfacePoint> points;
   points.reserve(kSamples);
   for (int i = 0; i < kSamples; ++i) {
     const auto at = std::upper_bound(cumulative.begin(), cumulative.end(), unit(rng) * total);
@@ -244,7 +245,7 @@ Evaluator openSubdivEvaluator(const std::string& name, const QuadNet& net,
 // The manifold triangular B-spline of a model: the basis built from its domain and knots, then
 // evaluateBatch at the points.
 Evaluator dmsEvaluator(const spline::SplineModel& model,
-                       const std::vector<spline::DomainPoint>& points) {
+                       const std::vector<spline::SurfacePoint>& points) {
   auto space = std::make_shared<std::unique_ptr<spline::TriBSplineSpace>>();
   auto out = std::make_shared<spline::SplineSamples>();
   Evaluator e;

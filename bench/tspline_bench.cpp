@@ -1,12 +1,13 @@
-// Benchmark: cubic T-spline evaluation by Bezier extraction (spline/tspline/tspline_bezier.h) against
-// OpenSubdiv's Catmull-Clark limit (spline/subd/catmull_clark_limit.h, Far, double precision) on the
-// same control net, by spline/subd/tspline_osd.h: (a) a periodic N x M grid of unit cells with control
-// points on a torus (radii 1 and 0.4), every face regular; (b) a planar N x M grid with random
-// heights, compared on its inner faces (OpenSubdiv under BoundaryRule::None has no surface at the
-// boundary). 1e6 random points (sample k in face k mod F at uniform (u, v)), position + first
-// derivatives, serial, best of two batches. Setup: TSplineSpace construction + Bezier extraction
-// against CatmullClarkLimit construction (the T-mesh is built before either). The deviations
-// check that both evaluate the same surface (relative to the control points' bounding box).
+// Benchmark: cubic T-spline evaluation by Bezier extraction (spline/tspline/tspline_bezier.h)
+// against OpenSubdiv's Catmull-Clark limit (spline/subd/catmull_clark_limit.h, Far, double
+// precision) on the same control net, by spline/subd/tspline_osd.h: (a) a periodic N x M grid of
+// unit cells with control points on a torus (radii 1 and 0.4), every face regular; (b) a planar N x
+// M grid with random heights, compared on its inner faces (OpenSubdiv under BoundaryRule::None has
+// no surface at the boundary). 1e6 random points (sample k in face k mod F at uniform (u, v)),
+// position + first derivatives, serial, best of two batches. Setup: TSplineSpace construction +
+// Bezier extraction against CatmullClarkLimit construction (the T-mesh is built before either). The
+// deviations check that both evaluate the same surface (relative to the control points' bounding
+// box).
 //
 // Usage: tspline_bench [N [M]]   (cells; default 200 100, each at least 4)
 //        tspline_bench MODEL.msp (c) a T-spline model of a real mesh, with extraordinary points
@@ -21,9 +22,10 @@
 #include <vector>
 
 #include "mspline/io/spline_model_file.h"
+#include "mspline/spline/subd/tspline_osd.h"
 #include "mspline/spline/tspline/tmesh.h"
 #include "mspline/spline/tspline/tspline.h"
-#include "mspline/spline/subd/tspline_osd.h"
+#include "mspline/structure/core/constants.h"
 
 using namespace mspline;
 using Clock = std::chrono::steady_clock;
@@ -31,7 +33,6 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 constexpr int kSamples = 1000000;
-constexpr double kPi = 3.14159265358979323846;
 
 double since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();

@@ -25,13 +25,8 @@ struct FitArguments {
   std::string scan;
   std::string output;
   std::string kind = "tspline";
-  double tolerance = 1e-3;
-  double maxErrorFactor = 10.0;
-  int maxControl = 8000;
-  int control = 0;
-  double smoothing = -1.0;
-  int correctionRounds = 3;
-  int maxRefinements = 6;
+  /// Everything but the kind and the flattening, with the library's defaults.
+  spline::FitOptions fit;
   FlattenSettings settings;
 };
 
@@ -104,24 +99,24 @@ void addFitCommand(CLI::App& app, Command& command) {
                   "tribspline (manifold triangular B-spline, domain refined adaptively) or subd "
                   "(Catmull-Clark limit surface of the same quad grid, no refinement)")
       ->check(CLI::IsMember({"tspline", "tribspline", "subd"}));
-  sub->add_option("--tolerance", arguments->tolerance,
+  sub->add_option("--tolerance", arguments->fit.tolerance,
                   "Wanted RMS distance from the scan's vertices to the surface, relative to the "
                   "scan's bounding-box diagonal (default 1e-3); the maximum wanted is 10 times it")
       ->check(CLI::Range(1e-7, 0.5));
-  sub->add_option("--max-control", arguments->maxControl, "Control point budget (default 8000)")
+  sub->add_option("--max-control", arguments->fit.maxControl, "Control point budget (default 8000)")
       ->check(CLI::Range(50, 10000000));
-  sub->add_option("--control", arguments->control,
+  sub->add_option("--control", arguments->fit.control,
                   "Control points to start with (default: 3/4 of the budget; subd keeps this "
                   "grid, the T-spline's initial one)")
       ->check(CLI::Range(20, 10000000));
-  sub->add_option("--smoothing", arguments->smoothing,
+  sub->add_option("--smoothing", arguments->fit.smoothing,
                   "Fairing weight relative to the data term (default: chosen by hold-out "
                   "validation among 1e-1 .. 1e-7)")
       ->check(CLI::Range(0.0, 1e3));
-  sub->add_option("--rounds", arguments->correctionRounds,
+  sub->add_option("--rounds", arguments->fit.correctionRounds,
                   "Parameter correction rounds per fit (default 3)")
       ->check(CLI::Range(0, 50));
-  sub->add_option("--max-refinements", arguments->maxRefinements,
+  sub->add_option("--max-refinements", arguments->fit.maxRefinements,
                   "Refinement rounds at most (default 6)")
       ->check(CLI::Range(0, 50));
   addFlattenOptions(*sub, arguments->settings, "--flatten-tolerance");
@@ -134,15 +129,8 @@ void addFitCommand(CLI::App& app, Command& command) {
       Stopwatch clock, total;
       io::LoadedMesh loaded = io::loadMesh(a.scan);
       const double loadSeconds = clock.lap();
-      spline::FitOptions options;
+      spline::FitOptions options = a.fit;
       options.kind = spline::parseFitKind(a.kind);
-      options.tolerance = a.tolerance;
-      options.maxErrorFactor = a.maxErrorFactor;
-      options.maxControl = a.maxControl;
-      options.control = a.control;
-      options.smoothing = a.smoothing;
-      options.correctionRounds = a.correctionRounds;
-      options.maxRefinements = a.maxRefinements;
       options.flatten = toFlattenOptions(a.settings, a.scan);
       const spline::FitResult fit =
           spline::fitScan(*loaded.mesh, options, [&](const std::string& stage, double fraction) {
@@ -171,8 +159,8 @@ void addFitCommand(CLI::App& app, Command& command) {
                   {"rms_error_surface_to_scan", e.rmsSurfaceToScan},
                   {"max_error_surface_to_scan", e.maxSurfaceToScan},
                   {"surface_samples", e.surfaceSamples},
-                  {"tolerance", a.tolerance},
-                  {"max_error_wanted", a.maxErrorFactor * a.tolerance},
+                  {"tolerance", options.tolerance},
+                  {"max_error_wanted", options.maxErrorFactor * options.tolerance},
                   {"reached_tolerance", fit.reachedTolerance},
                   {"within_budget", fit.withinBudget},
                   {"rounds", fit.rounds.size()},

@@ -10,8 +10,8 @@
 //                "positions": [[x, y], ...]}, ...],
 //    "transitions": [[from, to, angle, tx, ty], ...]}
 //
-// Charts and transitions are as in structure/atlas/affine_atlas.h (a transition maps chart `from` to
-// chart `to` by x -> R(angle) x + (tx, ty)); numbers are written with 17 significant digits, so
+// Charts and transitions are as in structure/atlas/affine_atlas.h (a transition maps chart `from`
+// to chart `to` by x -> R(angle) x + (tx, ty)); numbers are written with 17 significant digits, so
 // reading gives back the same doubles.
 #include <string>
 

@@ -1,4 +1,5 @@
 #include "mspline/io/shaded_picture.h"
+#include "mspline/structure/core/constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -15,8 +16,6 @@ namespace {
 
 using Eigen::Vector2d;
 using Eigen::Vector3d;
-
-constexpr double kPi = 3.14159265358979323846;
 
 double cross(const Vector2d& a, const Vector2d& b) {
   return a.x() * b.y() - a.y() * b.x();

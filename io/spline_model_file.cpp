@@ -137,7 +137,7 @@ void checkTriangularBSpline(const SplineModel& model) {
          std::to_string(model.degree) + " have " + str(perFace) + " basis functions each");
 
   for (std::size_t v = 0; v < vertices; ++v) {
-    const spline::DomainPoint& location = model.surfaceVertexLocations[v];
+    const spline::SurfacePoint& location = model.surfaceVertexLocations[v];
     requireIndex(
         location.face, faces, [&] { return "surface vertex " + str(v) + " lies in face"; },
         "domain faces");
@@ -196,7 +196,7 @@ spline::TMesh checkTMeshModel(const SplineModel& model, const char* kind) {
   }
 
   for (std::size_t v = 0; v < vertices; ++v) {
-    const spline::TMeshPoint& point = model.surfaceVertexTMeshPoints[v];
+    const spline::FacePoint& point = model.surfaceVertexTMeshPoints[v];
     requireIndex(
         point.face, mesh.faces.size(),
         [&] { return "surface vertex " + str(v) + " lies in T-mesh face"; }, "T-mesh faces");
@@ -404,7 +404,7 @@ void readTMeshPart(ModelReader& in, SplineModel& model) {
   const auto vertices = std::size_t(model.surfaceVertices.rows());
   in.requireFit(vertices, kTMeshPointBytes, str(vertices) + " points");
   model.surfaceVertexTMeshPoints.resize(vertices);
-  for (spline::TMeshPoint& point : model.surfaceVertexTMeshPoints) {
+  for (spline::FacePoint& point : model.surfaceVertexTMeshPoints) {
     point.face = in.value<std::int32_t>();
     point.position.x() = in.value<double>();
     point.position.y() = in.value<double>();
@@ -471,7 +471,7 @@ void writeTMeshPart(ModelWriter& out, const SplineModel& model) {
       out.f64(face.positions[k].y());
     }
   }
-  for (const spline::TMeshPoint& point : model.surfaceVertexTMeshPoints) {
+  for (const spline::FacePoint& point : model.surfaceVertexTMeshPoints) {
     out.i32(point.face);
     out.f64(point.position.x());
     out.f64(point.position.y());

@@ -1,6 +1,6 @@
 #pragma once
-// The spline model file (.msp): a spline::SplineModel (spline/core/spline_model.h) in binary, so that
-// a fitted spline can be saved and loaded without recomputing anything. Doubles are stored bit
+// The spline model file (.msp): a spline::SplineModel (spline/core/spline_model.h) in binary, so
+// that a fitted spline can be saved and loaded without recomputing anything. Doubles are stored bit
 // for bit, so save -> load -> save gives the same bytes and a loaded spline evaluates to the
 // same bits.
 //

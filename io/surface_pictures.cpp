@@ -1,4 +1,5 @@
 #include "mspline/io/surface_pictures.h"
+#include "mspline/structure/core/constants.h"
 
 #include <algorithm>
 #include <array>
@@ -21,8 +22,6 @@ using Eigen::Vector3d;
 using structure::FlatLayout;
 using structure::InputError;
 using structure::TriMesh;
-
-constexpr double kPi = 3.14159265358979323846;
 
 double cross(const Vector2d& a, const Vector2d& b) {
   return a.x() * b.y() - a.y() * b.x();

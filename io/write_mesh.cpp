@@ -4,8 +4,8 @@
 #include "mspline/io/detail/obj_format.h"
 #include "mspline/io/detail/off_format.h"
 #include "mspline/io/detail/ply_format.h"
-#include "mspline/io/read_mesh.h"
 #include "mspline/io/detail/stl_format.h"
+#include "mspline/io/read_mesh.h"
 #include "mspline/structure/core/errors.h"
 
 namespace mspline::io {

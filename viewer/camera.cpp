@@ -1,4 +1,5 @@
 #include "mspline/viewer/camera.h"
+#include "mspline/structure/core/constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +8,7 @@ namespace mspline::viewer {
 
 namespace {
 
-constexpr double kDegree = M_PI / 180.0;
+constexpr double kDegree = kPi / 180.0;
 
 }  // namespace
 

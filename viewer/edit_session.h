@@ -13,8 +13,8 @@
 
 #include <Eigen/Core>
 
-#include "mspline/spline/model/model_surface.h"
 #include "mspline/spline/core/spline_model.h"
+#include "mspline/spline/model/model_surface.h"
 
 namespace mspline::viewer {
 

@@ -23,7 +23,7 @@ namespace mspline::python {
 
 namespace {
 
-using spline::FitParameter;
+using spline::FacePoint;
 using spline::SplineKind;
 using spline::SplineModel;
 
@@ -61,21 +61,21 @@ Eigen::Vector2d randomPointInFace(const SplineModel& model, int face, std::mt199
 }
 
 // (faces, uvs) checked: a face of the domain each, its uv inside it.
-std::vector<FitParameter> toParameters(const Model& self, const IndexArray& faces,
-                                       const DoubleArray& uvs) {
+std::vector<FacePoint> toParameters(const Model& self, const IndexArray& faces,
+                                    const DoubleArray& uvs) {
   if (faces.shape(0) != uvs.shape(0))
     throw py::value_error("evaluate: " + std::to_string(faces.shape(0)) + " faces for " +
                           std::to_string(uvs.shape(0)) + " uvs");
   const auto face = faces.unchecked<1>();
   const auto uv = uvs.unchecked<2>();
   const int count = faceCount(self.model);
-  std::vector<FitParameter> parameters;
+  std::vector<FacePoint> parameters;
   for (py::ssize_t k = 0; k < face.shape(0); ++k) {
     if (face(k) < 0 || face(k) >= count)
       throw py::value_error("evaluate: face " + std::to_string(face(k)) + " (entry " +
                             std::to_string(k) + ") is not one of the model's " +
                             std::to_string(count) + " faces");
-    const FitParameter p{int(face(k)), {uv(k, 0), uv(k, 1)}};
+    const FacePoint p{int(face(k)), {uv(k, 0), uv(k, 1)}};
     if (!insideFace(self.model, p.face, p.position))
       throw py::value_error("evaluate: uv (" + std::to_string(uv(k, 0)) + ", " +
                             std::to_string(uv(k, 1)) + ") (entry " + std::to_string(k) +
@@ -86,7 +86,7 @@ std::vector<FitParameter> toParameters(const Model& self, const IndexArray& face
 }
 
 // The surface at every parameter, NaN where it is undefined (a cone point, a hole).
-Eigen::MatrixXd evaluateAll(const Model& self, const std::vector<FitParameter>& parameters) {
+Eigen::MatrixXd evaluateAll(const Model& self, const std::vector<FacePoint>& parameters) {
   Eigen::MatrixXd points(Eigen::Index(parameters.size()), 3);
   tbb::parallel_for(std::size_t(0), parameters.size(), [&](std::size_t k) {
     points.row(Eigen::Index(k)) =
@@ -97,7 +97,7 @@ Eigen::MatrixXd evaluateAll(const Model& self, const std::vector<FitParameter>& 
   return points;
 }
 
-py::dict parametersDict(const Model& self, const std::vector<FitParameter>& parameters) {
+py::dict parametersDict(const Model& self, const std::vector<FacePoint>& parameters) {
   Eigen::MatrixXd uvs(Eigen::Index(parameters.size()), 2);
   std::vector<std::int64_t> faces;
   for (std::size_t k = 0; k < parameters.size(); ++k) {
@@ -115,7 +115,7 @@ py::object evaluate(const Model& self, const py::handle& faces, const py::handle
   const bool single = faceArray && faceArray.ndim() == 0;
   if (single) faceArray = faceArray.reshape({py::ssize_t(1)});
   const IndexArray faceIndices = indexMatrix(single ? py::handle(faceArray) : faces, "faces", 0);
-  const std::vector<FitParameter> parameters =
+  const std::vector<FacePoint> parameters =
       toParameters(self, faceIndices, realMatrix(uvs, "uvs", 2, single));
   Eigen::MatrixXd points;
   {
@@ -138,14 +138,14 @@ spline::SurfaceProjection projectFromTriangle(const Model& self,
                                               const spline::ModelTessellation& tessellation,
                                               const structure::ClosestPoint& hit,
                                               const Eigen::Vector3d& target) {
-  std::vector<FitParameter> starts;
-  FitParameter interpolated{-1, Eigen::Vector2d::Zero()};
+  std::vector<FacePoint> starts;
+  FacePoint interpolated{-1, Eigen::Vector2d::Zero()};
   const auto& corners = tessellation.mesh.faces[std::size_t(hit.face)];
   for (std::size_t c = 0; c < 3; ++c) {
     const std::int64_t v = corners[c];
     if (std::binary_search(tessellation.meanVertices.begin(), tessellation.meanVertices.end(), v))
       continue;
-    const FitParameter& corner =
+    const FacePoint& corner =
         tessellation.samplePoints[std::size_t(tessellation.sampleOffsets[std::size_t(v)])];
     starts.push_back(corner);
     if (c == 0) interpolated.face = corner.face;
@@ -156,7 +156,7 @@ spline::SurfaceProjection projectFromTriangle(const Model& self,
       interpolated.face == starts[2].face)
     starts.insert(starts.begin(), interpolated);
   spline::SurfaceProjection best{{}, std::numeric_limits<double>::quiet_NaN()};
-  for (const FitParameter& start : starts) {
+  for (const FacePoint& start : starts) {
     const spline::SurfaceProjection projection = spline::projectOntoSurface(
         self.surface->fitSpace(), self.model.controlPoints, start, target, kProjectionSteps);
     if (std::isnan(best.distance) || projection.distance < best.distance) best = projection;
@@ -166,7 +166,7 @@ spline::SurfaceProjection projectFromTriangle(const Model& self,
 
 py::dict project(const Model& self, const py::handle& points) {
   const Eigen::MatrixX3d targets = toPoints(realMatrix(points, "points", 3));
-  std::vector<FitParameter> parameters(std::size_t(targets.rows()));
+  std::vector<FacePoint> parameters(std::size_t(targets.rows()));
   Eigen::VectorXd distances(targets.rows());
   Eigen::MatrixXd closest;
   {
@@ -203,7 +203,7 @@ py::dict project(const Model& self, const py::handle& points) {
 std::vector<double> faceAreas(const Model& self) {
   const spline::FitSpace& space = self.surface->fitSpace();
   const Eigen::MatrixXd& control = self.model.controlPoints;
-  std::vector<FitParameter> nodes;
+  std::vector<FacePoint> nodes;
   std::vector<double> weights;
   space.quadrature(nodes, weights);
   std::vector<double> areas(std::size_t(faceCount(self.model)), 0.0);
@@ -222,7 +222,7 @@ std::vector<double> faceAreas(const Model& self) {
 
 py::dict sample(const Model& self, int count, unsigned long long seed) {
   if (count < 0) throw py::value_error("sample: a negative count (" + std::to_string(count) + ")");
-  std::vector<FitParameter> parameters;
+  std::vector<FacePoint> parameters;
   Eigen::MatrixXd points(count, 3);
   {
     py::gil_scoped_release release;
@@ -236,7 +236,7 @@ py::dict sample(const Model& self, int count, unsigned long long seed) {
     for (int k = 0; k < count; ++k) {
       for (int attempt = 0;; ++attempt) {
         const int face = pickFace(random);
-        const FitParameter p{face, randomPointInFace(self.model, face, random)};
+        const FacePoint p{face, randomPointInFace(self.model, face, random)};
         const Eigen::Vector3d point =
             spline::evaluateFitSurface(self.surface->fitSpace(), self.model.controlPoints, p);
         if (point.allFinite()) {

@@ -37,7 +37,7 @@ struct SplineModel {
   std::vector<char> surfaceFaceFilled;
   /// Triangular B-splines only (empty for T-splines): where each surface vertex lies in the
   /// domain, the domain triangulation and, per domain vertex, the surface vertex it is.
-  std::vector<DomainPoint> surfaceVertexLocations;
+  std::vector<SurfacePoint> surfaceVertexLocations;
   SplineDomain domain;
   std::vector<int> domainVertexSource;
   /// Polynomial degree n (3 for T-splines).
@@ -54,7 +54,7 @@ struct SplineModel {
   /// row per T-spline blending function, in the order of TSplineSpace(tmesh).anchors(), or for a
   /// subdivision surface one row per T-mesh vertex (the net's points).
   TMesh tmesh;
-  std::vector<TMeshPoint> surfaceVertexTMeshPoints;
+  std::vector<FacePoint> surfaceVertexTMeshPoints;
   /// T-splines only: one weight per blending function (empty for subdivision surfaces).
   Eigen::VectorXd weights;
 };

@@ -9,13 +9,12 @@
 
 #include <Eigen/Core>
 
+#include "mspline/structure/core/surface_point.h"
+
 namespace mspline::spline {
 
-/// A point of a parameter domain: a face and a position in that face's frame.
-struct FitParameter {
-  int face = -1;
-  Eigen::Vector2d position = Eigen::Vector2d::Zero();
-};
+using structure::FacePoint;
+using structure::SurfacePoint;
 
 /// One function of the space at a point, with derivatives along the axes of the point's face
 /// frame (zero when not asked for).
@@ -33,13 +32,13 @@ class FitSpace {
   /// The functions that are non-zero at `p`, any rational normalization included (the surface is
   /// sum_k c_k value_k), with derivatives: 0 none, 1 first, 2 first and second. Leaves `out`
   /// empty where the surface is undefined (a cone point, a hole).
-  virtual void basisAt(const FitParameter& p, std::vector<FitBasisTerm>& out,
+  virtual void basisAt(const FacePoint& p, std::vector<FitBasisTerm>& out,
                        int derivatives) const = 0;
   /// The point reached from `p` by the straight segment p.position + step of p.face's frame,
   /// continued across face sides in the neighbouring faces' frames (the direction turned with
   /// them). Stops where the segment leaves the domain (an open boundary) or would run into a
   /// cone; the result is then the last point reached.
-  virtual FitParameter walk(const FitParameter& p, const Eigen::Vector2d& step) const = 0;
+  virtual FacePoint walk(const FacePoint& p, const Eigen::Vector2d& step) const = 0;
   /// A typical length of `face` in its frame: a Newton step of parameter correction moves at most
   /// this far (where the surface is nearly singular, as around a cone's hole, a short move in
   /// space can be a very long one in the parameters).
@@ -47,7 +46,7 @@ class FitSpace {
   /// Quadrature nodes and weights for integrals over the whole domain, each node's weight the
   /// area element of its face's frame times the rule's weight (exact for polynomials of degree
   /// 3 in each variable on each face is plenty for the fairing energy).
-  virtual void quadrature(std::vector<FitParameter>& nodes, std::vector<double>& weights) const = 0;
+  virtual void quadrature(std::vector<FacePoint>& nodes, std::vector<double>& weights) const = 0;
 };
 
 }  // namespace mspline::spline

@@ -40,7 +40,7 @@ SurfaceJet jetOf(const std::vector<FitBasisTerm>& terms, const Eigen::MatrixXd& 
 
 // The design matrix of the samples whose surface is defined (rows in the order of `rows`).
 Eigen::SparseMatrix<double> designMatrix(const FitSpace& space,
-                                         const std::vector<FitParameter>& parameters,
+                                         const std::vector<FacePoint>& parameters,
                                          std::vector<Eigen::Index>& rows) {
   const std::size_t count = parameters.size();
   std::vector<std::vector<FitBasisTerm>> terms(count);
@@ -83,7 +83,7 @@ struct Solve {
 
 // One least-squares solve at the given parameters; chooses the smoothing on the first call when
 // asked to (smoothing < 0).
-Solve solveAt(const FitSpace& space, const std::vector<FitParameter>& parameters,
+Solve solveAt(const FitSpace& space, const std::vector<FacePoint>& parameters,
               const Eigen::MatrixX3d& targets, const Eigen::VectorXd& weights,
               const Eigen::SparseMatrix<double>& energy, double smoothing,
               std::vector<Eigen::Index>& rows) {
@@ -177,7 +177,7 @@ Solve solveAt(const FitSpace& space, const std::vector<FitParameter>& parameters
 
 // Projects every sample; returns the distances (NaN where the surface is undefined).
 Eigen::VectorXd projectAll(const FitSpace& space, const Eigen::MatrixXd& control,
-                           std::vector<FitParameter>& parameters, const Eigen::MatrixX3d& targets,
+                           std::vector<FacePoint>& parameters, const Eigen::MatrixX3d& targets,
                            int steps) {
   Eigen::VectorXd distances(Eigen::Index(parameters.size()));
   tbb::parallel_for(std::size_t(0), parameters.size(), [&](std::size_t s) {
@@ -212,7 +212,7 @@ void summarize(const Eigen::VectorXd& distances, const Eigen::VectorXd& weights,
 }  // namespace
 
 Eigen::SparseMatrix<double> thinPlateEnergy(const FitSpace& space) {
-  std::vector<FitParameter> nodes;
+  std::vector<FacePoint> nodes;
   std::vector<double> weights;
   space.quadrature(nodes, weights);
   const Eigen::Index n = space.numBasis();
@@ -255,7 +255,7 @@ Eigen::SparseMatrix<double> thinPlateEnergy(const FitSpace& space) {
 }
 
 Eigen::Vector3d evaluateFitSurface(const FitSpace& space, const Eigen::MatrixXd& control,
-                                   const FitParameter& p) {
+                                   const FacePoint& p) {
   std::vector<FitBasisTerm> terms;
   space.basisAt(p, terms, 0);
   if (terms.empty()) return Eigen::Vector3d::Constant(kNaN);
@@ -263,7 +263,7 @@ Eigen::Vector3d evaluateFitSurface(const FitSpace& space, const Eigen::MatrixXd&
 }
 
 SurfaceProjection projectOntoSurface(const FitSpace& space, const Eigen::MatrixXd& control,
-                                     const FitParameter& start, const Eigen::Vector3d& target,
+                                     const FacePoint& start, const Eigen::Vector3d& target,
                                      int steps) {
   std::vector<FitBasisTerm> terms;
   SurfaceProjection current{start, kNaN};
@@ -297,7 +297,7 @@ SurfaceProjection projectOntoSurface(const FitSpace& space, const Eigen::MatrixX
     if (!(move.allFinite()) || move.norm() == 0.0) break;
     bool improved = false;
     for (int halving = 0; halving < 6 && !improved; ++halving, move *= 0.5) {
-      const FitParameter trial = space.walk(current.parameter, move);
+      const FacePoint trial = space.walk(current.parameter, move);
       space.basisAt(trial, terms, 2);
       if (terms.empty()) continue;
       const SurfaceJet trialJet = jetOf(terms, control);
@@ -315,7 +315,7 @@ SurfaceProjection projectOntoSurface(const FitSpace& space, const Eigen::MatrixX
   return current;
 }
 
-SurfaceFitResult fitSurface(const FitSpace& space, const std::vector<FitParameter>& parameters,
+SurfaceFitResult fitSurface(const FitSpace& space, const std::vector<FacePoint>& parameters,
                             const Eigen::MatrixX3d& targets, const SurfaceFitOptions& options,
                             const FitProgress& progress) {
   if (parameters.empty() || Eigen::Index(parameters.size()) != targets.rows())

@@ -39,7 +39,7 @@ struct SurfaceFitResult {
   /// One row per function of the space, three columns.
   Eigen::MatrixXd controlPoints;
   /// The samples' parameters after the last projection (the closest points' parameters).
-  std::vector<FitParameter> parameters;
+  std::vector<FacePoint> parameters;
   /// Per sample: distance from the scan point to the surface at its parameters after the last
   /// projection; NaN for samples where the surface is undefined.
   Eigen::VectorXd distances;
@@ -67,17 +67,17 @@ using FitProgress = std::function<void(const std::string& stage, double fraction
 /// Fits the surface of `space` to `targets` (one row per sample, three columns) starting from the
 /// samples' `parameters`. Throws InputError when the counts differ or no sample has a defined
 /// surface, SolverError when the system cannot be factored.
-SurfaceFitResult fitSurface(const FitSpace& space, const std::vector<FitParameter>& parameters,
+SurfaceFitResult fitSurface(const FitSpace& space, const std::vector<FacePoint>& parameters,
                             const Eigen::MatrixX3d& targets, const SurfaceFitOptions& options = {},
                             const FitProgress& progress = {});
 
 /// The surface point of `control` at `p` (NaN where the surface is undefined).
 Eigen::Vector3d evaluateFitSurface(const FitSpace& space, const Eigen::MatrixXd& control,
-                                   const FitParameter& p);
+                                   const FacePoint& p);
 
 /// A closest point found by Newton's method on the parameters from a start.
 struct SurfaceProjection {
-  FitParameter parameter;
+  FacePoint parameter;
   /// |S(parameter) - target|; NaN where the surface is undefined at the start.
   double distance = 0.0;
 };
@@ -85,7 +85,7 @@ struct SurfaceProjection {
 /// Moves `start` to a local minimum of |S(u) - target| (Newton steps, the Hessian's curvature
 /// part dropped where it is not positive definite, steps halved until the distance decreases).
 SurfaceProjection projectOntoSurface(const FitSpace& space, const Eigen::MatrixXd& control,
-                                     const FitParameter& start, const Eigen::Vector3d& target,
+                                     const FacePoint& start, const Eigen::Vector3d& target,
                                      int steps = 12);
 
 /// The thin-plate energy matrix K of the space (see above), numBasis x numBasis.

@@ -126,7 +126,7 @@ void buildTSpline(const BuildSplineOptions& s, const Flattening& flattening,
   model.tmesh = torus ? torus->mesh : quads->mesh;
   copySurface(surface, model);
   const Eigen::Index vertexCount = model.surfaceVertices.rows();
-  model.surfaceVertexTMeshPoints.assign(std::size_t(vertexCount), TMeshPoint{});
+  model.surfaceVertexTMeshPoints.assign(std::size_t(vertexCount), FacePoint{});
   std::vector<Eigen::RowVector3d> targets;
   for (std::size_t f = 0; f < model.surfaceFaces.size(); ++f)
     for (std::size_t k = 0; k < 3; ++k) {
@@ -225,8 +225,8 @@ SplineSpaceBuild buildSpline(const Flattening& flattening, const BuildSplineOpti
   return build;
 }
 
-std::vector<FitParameter> tmeshFitParameters(const SplineSpaceBuild& build) {
-  std::vector<FitParameter> parameters;
+std::vector<FacePoint> tmeshFitParameters(const SplineSpaceBuild& build) {
+  std::vector<FacePoint> parameters;
   parameters.reserve(build.tmeshSites.size());
   for (const auto& p : build.tmeshSites) parameters.push_back({p.face, p.position});
   return parameters;
@@ -247,7 +247,7 @@ ControlPointFit fitControlPoints(SplineSpaceBuild& build, const Progress& progre
     const TriBSplineSpace space(model.domain, model.knots);
     const TriBSplineFitSpace fitSpace(space);
     addStageSeconds(result.stageSeconds, "basis", clock.lap());
-    std::vector<FitParameter> parameters;
+    std::vector<FacePoint> parameters;
     parameters.reserve(build.domainSites.size());
     for (const auto& p : build.domainSites) parameters.push_back(toFitParameter(space, p));
     report(progress, "fitting " + std::to_string(space.numBasis()) + " control points to " +

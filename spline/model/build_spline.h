@@ -85,8 +85,8 @@ struct SplineSpaceBuild {
   SplineModel model;
   /// Samples: the parameters (T-mesh points or domain points by kind) and the 3D points; sample
   /// k < V is surface vertex k, points inside faces follow.
-  std::vector<TMeshPoint> tmeshSites;
-  std::vector<DomainPoint> domainSites;
+  std::vector<FacePoint> tmeshSites;
+  std::vector<SurfacePoint> domainSites;
   Eigen::MatrixX3d targets;
   /// Per sample after the vertices, the surface face it lies in.
   std::vector<int> sampleFaces;
@@ -105,7 +105,7 @@ SplineSpaceBuild buildSpline(const structure::Flattening& flattening,
 
 /// The samples' parameters as the fitting engine takes them, for a T-spline or subdivision space
 /// built on `build.model.tmesh`.
-std::vector<FitParameter> tmeshFitParameters(const SplineSpaceBuild& build);
+std::vector<FacePoint> tmeshFitParameters(const SplineSpaceBuild& build);
 
 /// One fit of the control points of a built space to its samples, as `spline` makes a model from
 /// its mesh: the fitting engine (spline/fitting/surface_fit.h) with no fairing and no parameter

@@ -51,7 +51,7 @@ TriBSplineCheck checkTriBSpline(const TriBSplineSpace& space, const SplineModel&
       u = 1.0 - u;
       v = 1.0 - v;
     }
-    const DomainPoint point{pickFace(random), Eigen::Vector3d(1.0 - u - v, u, v)};
+    const SurfacePoint point{pickFace(random), Eigen::Vector3d(1.0 - u - v, u, v)};
     double denominator = 0.0;
     space.basisAt(point, basis, 0, &denominator);
     check.minDenominator = std::min(check.minDenominator, denominator);

@@ -25,10 +25,10 @@ struct PieceCurvature {
 // the chart) of the surface at `points`, those where it is undefined (a cone point, a hole)
 // skipped.
 double largestSecondDerivative(const FitSpace& space, const Eigen::MatrixXd& control,
-                               const std::vector<FitParameter>& points) {
+                               const std::vector<FacePoint>& points) {
   double largest = 0.0;
   std::vector<FitBasisTerm> terms;
-  for (const FitParameter& p : points) {
+  for (const FacePoint& p : points) {
     space.basisAt(p, terms, 2);
     if (terms.empty()) continue;
     Eigen::Vector3d ss = Eigen::Vector3d::Zero(), st = ss, tt = ss;
@@ -48,7 +48,7 @@ double largestSecondDerivative(const FitSpace& space, const Eigen::MatrixXd& con
 // diagonal and the 3 x 3 interior points of its 4 x 4 grid.
 std::vector<PieceCurvature> modelCurvature(const ModelSurface& surface, const SplineModel& model) {
   std::vector<PieceCurvature> pieces;
-  std::vector<FitParameter> points;
+  std::vector<FacePoint> points;
   const auto add = [&](double length) {
     pieces.push_back(
         {length, largestSecondDerivative(surface.fitSpace(), model.controlPoints, points)});

@@ -18,7 +18,7 @@ Eigen::MatrixX3d surfaceVertexSpline(const SplineModel& model) {
   if (model.kind == SplineKind::TriangularBSpline) {
     const TriBSplineSpace space(model.domain, model.knots);
     for (Eigen::Index v = 0; v < count; ++v) {
-      const DomainPoint& p = model.surfaceVertexLocations[std::size_t(v)];
+      const SurfacePoint& p = model.surfaceVertexLocations[std::size_t(v)];
       try {
         spline.row(v) = space.evaluate(model.controlPoints, p, 0).position.transpose();
       } catch (const structure::InputError&) {
@@ -28,7 +28,7 @@ Eigen::MatrixX3d surfaceVertexSpline(const SplineModel& model) {
   } else if (model.kind == SplineKind::TSpline) {
     const TSplineSpace space(model.tmesh);
     for (Eigen::Index v = 0; v < count; ++v) {
-      const TMeshPoint& p = model.surfaceVertexTMeshPoints[std::size_t(v)];
+      const FacePoint& p = model.surfaceVertexTMeshPoints[std::size_t(v)];
       const TSplinePoint point =
           space.evaluate(model.controlPoints, model.weights, p.face, p.position, 0);
       if (point.position.allFinite()) spline.row(v) = point.position.transpose();
@@ -36,7 +36,7 @@ Eigen::MatrixX3d surfaceVertexSpline(const SplineModel& model) {
   } else {
     const SubdSpace space(model.tmesh);
     for (Eigen::Index v = 0; v < count; ++v) {
-      const TMeshPoint& p = model.surfaceVertexTMeshPoints[std::size_t(v)];
+      const FacePoint& p = model.surfaceVertexTMeshPoints[std::size_t(v)];
       Eigen::Vector3d position;
       if (space.evaluate(model.controlPoints, p.face, p.position, position))
         spline.row(v) = position.transpose();

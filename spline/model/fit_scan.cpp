@@ -217,7 +217,7 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
       Stopwatch roundClock;
       const TriBSplineSpace space(setup.model.domain, setup.model.knots);
       const TriBSplineFitSpace fitSpace(space);
-      std::vector<FitParameter> parameters;
+      std::vector<FacePoint> parameters;
       for (const auto& p : setup.domainSites) parameters.push_back(toFitParameter(space, p));
       const auto roundProgress = [&](const std::string& stage, double fraction) {
         report(progress, "round " + std::to_string(round + 1) + ": " + stage, fraction);

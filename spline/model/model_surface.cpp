@@ -88,7 +88,7 @@ ModelTessellation fromTMeshTessellation(TMeshTessellation t, const TMesh& mesh) 
   out.meanVertices.assign(t.holeVertices.begin(), t.holeVertices.end());
   out.sampleOffsets = std::move(t.sampleOffsets);
   out.samplePoints.reserve(t.samplePoints.size());
-  for (const TMeshPoint& p : t.samplePoints) out.samplePoints.push_back({p.face, p.position});
+  for (const FacePoint& p : t.samplePoints) out.samplePoints.push_back({p.face, p.position});
   return out;
 }
 
@@ -234,7 +234,7 @@ ModelTessellation ModelSurface::tessellate(const Eigen::MatrixXd& control, int r
                   {"cone_vertices", double(t.coneVertices), true}};
     out.sampleOffsets = std::move(t.sampleOffsets);
     out.samplePoints.reserve(t.samplePoints.size());
-    for (const DomainPoint& p : t.samplePoints)
+    for (const SurfacePoint& p : t.samplePoints)
       out.samplePoints.push_back(toFitParameter(*m.triBSpline, p));
     return out;
   } catch (const InputError& e) {

@@ -12,8 +12,8 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
-#include "mspline/spline/fitting/fit_space.h"
 #include "mspline/spline/core/spline_model.h"
+#include "mspline/spline/fitting/fit_space.h"
 #include "mspline/structure/mesh/polygon_soup.h"
 
 namespace mspline::spline {
@@ -64,7 +64,7 @@ struct ModelTessellation {
   /// several for the samples that close a hole around a cone). sampleOffsets has one entry more
   /// than there are vertices.
   std::vector<std::int64_t> sampleOffsets;
-  std::vector<FitParameter> samplePoints;
+  std::vector<FacePoint> samplePoints;
 };
 
 /// The control net: points are control point rows, lines join two of them.

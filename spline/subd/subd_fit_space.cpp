@@ -9,9 +9,9 @@
 #include <opensubdiv/far/stencilTableFactory.h>
 
 #include "mspline/spline/subd/osd_patches.h"
+#include "mspline/spline/subd/tspline_osd.h"
 #include "mspline/spline/tspline/tmesh_walk.h"
 #include "mspline/spline/tspline/tspline_fit_space.h"
-#include "mspline/spline/subd/tspline_osd.h"
 #include "mspline/structure/core/errors.h"
 
 namespace mspline::spline {
@@ -189,13 +189,13 @@ bool SubdSpace::evaluate(const Eigen::MatrixXd& control, int face, const Eigen::
   return true;
 }
 
-void SubdFitSpace::basisAt(const FitParameter& p, std::vector<FitBasisTerm>& out,
+void SubdFitSpace::basisAt(const FacePoint& p, std::vector<FitBasisTerm>& out,
                            int derivatives) const {
   space_.basisAt(p.face, p.position, out, derivatives);
 }
 
-FitParameter SubdFitSpace::walk(const FitParameter& p, const Eigen::Vector2d& step) const {
-  const TMeshPoint end = walkTMesh(space_.mesh(), TMeshPoint{p.face, p.position}, step);
+FacePoint SubdFitSpace::walk(const FacePoint& p, const Eigen::Vector2d& step) const {
+  const FacePoint end = walkTMesh(space_.mesh(), FacePoint{p.face, p.position}, step);
   return {end.face, end.position};
 }
 
@@ -203,8 +203,7 @@ double SubdFitSpace::faceSize(int face) const {
   return tmeshFaceSize(space_.mesh(), face);
 }
 
-void SubdFitSpace::quadrature(std::vector<FitParameter>& nodes,
-                              std::vector<double>& weights) const {
+void SubdFitSpace::quadrature(std::vector<FacePoint>& nodes, std::vector<double>& weights) const {
   tmeshQuadrature(space_.mesh(), nodes, weights);
 }
 

@@ -16,8 +16,8 @@
 
 #include <Eigen/Core>
 
-#include "mspline/spline/subd/catmull_clark_limit.h"
 #include "mspline/spline/fitting/fit_space.h"
+#include "mspline/spline/subd/catmull_clark_limit.h"
 #include "mspline/spline/tspline/tmesh.h"
 
 namespace mspline::spline {
@@ -63,11 +63,10 @@ class SubdFitSpace : public FitSpace {
   /// Keeps a reference: `space` must outlive this object.
   explicit SubdFitSpace(const SubdSpace& space) : space_(space) {}
   int numBasis() const override { return space_.numBasis(); }
-  void basisAt(const FitParameter& p, std::vector<FitBasisTerm>& out,
-               int derivatives) const override;
-  FitParameter walk(const FitParameter& p, const Eigen::Vector2d& step) const override;
+  void basisAt(const FacePoint& p, std::vector<FitBasisTerm>& out, int derivatives) const override;
+  FacePoint walk(const FacePoint& p, const Eigen::Vector2d& step) const override;
   double faceSize(int face) const override;
-  void quadrature(std::vector<FitParameter>& nodes, std::vector<double>& weights) const override;
+  void quadrature(std::vector<FacePoint>& nodes, std::vector<double>& weights) const override;
   const SubdSpace& space() const { return space_; }
 
  private:

@@ -220,7 +220,7 @@ OsdComparison compareWithOpenSubdiv(const TSplineSpace& space, const Eigen::Matr
   // The samples; patch face f is base face f in a net of quads.
   std::mt19937 rng(options.seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<TMeshPoint> points(static_cast<std::size_t>(options.samples));
+  std::vector<FacePoint> points(static_cast<std::size_t>(options.samples));
   std::vector<FaceParameter> parameters(points.size());
   for (std::size_t k = 0; k < points.size(); ++k) {
     const int f = static_cast<int>(k % static_cast<std::size_t>(numFaces));
@@ -235,7 +235,7 @@ OsdComparison compareWithOpenSubdiv(const TSplineSpace& space, const Eigen::Matr
       result.faceClass[points[k].face] = OsdFaceClass::WithoutSurface;
 
   std::vector<std::size_t> comparedIndex;
-  std::vector<TMeshPoint> compared;
+  std::vector<FacePoint> compared;
   std::vector<FaceParameter> comparedParameters;
   for (std::size_t k = 0; k < points.size(); ++k)
     if (result.faceClass[points[k].face] != OsdFaceClass::WithoutSurface) {

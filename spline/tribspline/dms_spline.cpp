@@ -1,4 +1,5 @@
 #include "mspline/spline/tribspline/dms_spline.h"
+#include "mspline/structure/core/constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -21,7 +22,6 @@ using structure::InputError;
 namespace {
 
 constexpr int kMaxDegree = 10;
-constexpr double kPi = 3.14159265358979323846;
 
 double cross(const Vector2d& u, const Vector2d& v) {
   return u.x() * v.y() - u.y() * v.x();

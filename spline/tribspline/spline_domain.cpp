@@ -1,4 +1,5 @@
 #include "mspline/spline/tribspline/spline_domain.h"
+#include "mspline/structure/core/constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -17,8 +18,6 @@ namespace {
 
 using structure::InputError;
 using structure::RigidMotion;
-
-constexpr double kPi = 3.14159265358979323846;
 
 std::string faceName(int f) {
   return "domain face " + std::to_string(f);

@@ -1,7 +1,7 @@
 #pragma once
 // The domain of a manifold spline: a triangulation of a flat surface with cone singularities at
-// some of its vertices (structure/layout/coarse_triangulation.h makes one from the flat metric of a mesh),
-// and the charts the spline is evaluated in.
+// some of its vertices (structure/layout/coarse_triangulation.h makes one from the flat metric of a
+// mesh), and the charts the spline is evaluated in.
 //
 // Chart design: every face has a home chart, its own frame (corner 0 at the origin, corner 1 on
 // the positive x axis) with its neighbourhood developed into it: the whole fan around each corner
@@ -17,16 +17,14 @@
 #include <Eigen/Core>
 
 #include "mspline/structure/atlas/affine_atlas.h"
+#include "mspline/structure/core/surface_point.h"
 #include "mspline/structure/layout/coarse_triangulation.h"
 #include "mspline/structure/mesh/tri_mesh.h"
 
 namespace mspline::spline {
 
-/// A point of the domain: a face and barycentric coordinates with respect to its corners.
-struct DomainPoint {
-  int face = -1;
-  Eigen::Vector3d barycentric = Eigen::Vector3d::Zero();
-};
+using structure::FacePoint;
+using structure::SurfacePoint;
 
 struct SplineDomain {
   /// Corners of every face (domain vertex indices), counter-clockwise.

@@ -34,14 +34,14 @@ Tessellation tessellate(const TriBSplineSpace& space, const Eigen::MatrixXd& con
   struct Sample {
     Eigen::Vector3d position = Eigen::Vector3d::Zero();
     Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // zero where du x dv vanishes
-    DomainPoint evaluated;                             // where the spline was evaluated
+    SurfacePoint evaluated;                            // where the spline was evaluated
   };
-  const auto sample = [&](const DomainPoint& at) {
+  const auto sample = [&](const SurfacePoint& at) {
     // The normalized basis is non-negative and sums to 1; where its denominator is so small that
     // rounding breaks that (sum |N_k| / sum N_k well above 1), the point is moved a little
     // towards the face's centre, where the spline is the same up to that little move.
     double denominator = 0.0;
-    DomainPoint point = at;
+    SurfacePoint point = at;
     for (const double towardsCentre : {0.0, 1e-4, 1e-3, 1e-2, 0.05}) {
       point.barycentric =
           (1.0 - towardsCentre) * at.barycentric + Eigen::Vector3d::Constant(towardsCentre / 3.0);
@@ -67,8 +67,8 @@ Tessellation tessellate(const TriBSplineSpace& space, const Eigen::MatrixXd& con
   out.sampleOffsets.push_back(0);
   // A mesh vertex at `s`, which is the spline at `evaluated` (their mean), with the chart
   // coordinates of `point`.
-  const auto add = [&](const Sample& s, const DomainPoint& point,
-                       const std::vector<DomainPoint>& evaluated) {
+  const auto add = [&](const Sample& s, const SurfacePoint& point,
+                       const std::vector<SurfacePoint>& evaluated) {
     out.samplePoints.insert(out.samplePoints.end(), evaluated.begin(), evaluated.end());
     out.sampleOffsets.push_back(std::int64_t(out.samplePoints.size()));
     out.mesh.positions.push_back({s.position.x(), s.position.y(), s.position.z()});
@@ -82,15 +82,15 @@ Tessellation tessellate(const TriBSplineSpace& space, const Eigen::MatrixXd& con
   std::vector<std::int64_t> vertexSample(std::size_t(domain.vertexCount()), -1);
   std::vector<Sample> coneSum(std::size_t(domain.vertexCount()));
   std::vector<int> coneFaces(std::size_t(domain.vertexCount()), 0);
-  std::vector<DomainPoint> coneCorner(std::size_t(domain.vertexCount()));
-  std::vector<std::vector<DomainPoint>> coneEvaluated(std::size_t(domain.vertexCount()));
+  std::vector<SurfacePoint> coneCorner(std::size_t(domain.vertexCount()));
+  std::vector<std::vector<SurfacePoint>> coneEvaluated(std::size_t(domain.vertexCount()));
   for (int f = 0; f < domain.faceCount(); ++f)
     for (int c = 0; c < 3; ++c) {
       const int v = domain.faces[std::size_t(f)][std::size_t(c)];
-      DomainPoint point{f, Eigen::Vector3d::Zero()};
+      SurfacePoint point{f, Eigen::Vector3d::Zero()};
       if (domain.cone[std::size_t(v)]) {
         const auto offCone = [&](double offset) {
-          DomainPoint inside{f, Eigen::Vector3d::Constant(offset / 2.0)};
+          SurfacePoint inside{f, Eigen::Vector3d::Constant(offset / 2.0)};
           inside.barycentric[c] = 1.0 - offset;
           return sample(inside);
         };
@@ -138,7 +138,7 @@ Tessellation tessellate(const TriBSplineSpace& space, const Eigen::MatrixXd& con
       return samples;
     }
     for (int i = 1; i < r; ++i) {
-      DomainPoint point{f, Eigen::Vector3d::Zero()};
+      SurfacePoint point{f, Eigen::Vector3d::Zero()};
       point.barycentric[k] = double(r - i) / r;
       point.barycentric[(k + 1) % 3] = double(i) / r;
       const Sample s = sample(point);
@@ -166,7 +166,7 @@ Tessellation tessellate(const TriBSplineSpace& space, const Eigen::MatrixXd& con
     }
     for (int b = 1; b < r; ++b)
       for (int a = 1; a + b < r; ++a) {
-        const DomainPoint point{f, Eigen::Vector3d(double(r - a - b), double(a), double(b)) / r};
+        const SurfacePoint point{f, Eigen::Vector3d(double(r - a - b), double(a), double(b)) / r};
         const Sample s = sample(point);
         grid[at(a, b)] = add(s, point, {s.evaluated});
       }

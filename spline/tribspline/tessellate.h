@@ -38,7 +38,7 @@ struct Tessellation {
   /// the normalization there, the point moved a little towards its face's centre that was
   /// evaluated instead. sampleOffsets has one entry more than the mesh has vertices.
   std::vector<std::int64_t> sampleOffsets;
-  std::vector<DomainPoint> samplePoints;
+  std::vector<SurfacePoint> samplePoints;
 };
 
 /// Samples the spline with control points `control` (3 columns) `resolution` times along every

@@ -1,4 +1,5 @@
 #include "mspline/spline/tribspline/tri_bspline.h"
+#include "mspline/structure/core/constants.h"
 
 #include <algorithm>
 #include <cmath>
@@ -19,8 +20,6 @@ namespace {
 
 using structure::InputError;
 using structure::RigidMotion;
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Cone clouds lie this much closer to their vertex than shared clouds: the basis functions of the
 // faces at a cone vanish at the cone (no knots surround it), and inside the faces only within
@@ -239,7 +238,7 @@ std::array<double, 3> TriBSplineSpace::barycentricAt(int face, const Eigen::Vect
           frame[6] + frame[7] * x.x() + frame[8] * x.y()};
 }
 
-Eigen::Vector2d TriBSplineSpace::framePosition(const DomainPoint& point) const {
+Eigen::Vector2d TriBSplineSpace::framePosition(const SurfacePoint& point) const {
   if (point.face < 0 || point.face >= domain_.faceCount())
     throw InputError("triangular B-spline: domain face " + std::to_string(point.face) +
                      " does not exist");
@@ -267,7 +266,7 @@ void TriBSplineSpace::visitContributors(int face, const Eigen::Vector2d& x,
   }
 }
 
-void TriBSplineSpace::basisAt(const DomainPoint& point, BasisValues& out, int derivatives,
+void TriBSplineSpace::basisAt(const SurfacePoint& point, BasisValues& out, int derivatives,
                               double* denominator) const {
   out.index.clear();
   out.value.clear();
@@ -331,7 +330,7 @@ void TriBSplineSpace::basisAt(const DomainPoint& point, BasisValues& out, int de
   }
 }
 
-SplinePoint TriBSplineSpace::evaluate(const Eigen::MatrixXd& control, const DomainPoint& point,
+SplinePoint TriBSplineSpace::evaluate(const Eigen::MatrixXd& control, const SurfacePoint& point,
                                       int derivatives) const {
   if (control.rows() != numBasis())
     throw InputError("triangular B-spline: " + std::to_string(control.rows()) +
@@ -367,7 +366,7 @@ SplinePoint TriBSplineSpace::evaluate(const Eigen::MatrixXd& control, const Doma
 }
 
 SplineSamples TriBSplineSpace::evaluateBatch(const Eigen::MatrixXd& control,
-                                             const std::vector<DomainPoint>& points,
+                                             const std::vector<SurfacePoint>& points,
                                              int derivatives) const {
   SplineSamples samples;
   evaluateBatch(control, points, derivatives, samples);
@@ -375,7 +374,7 @@ SplineSamples TriBSplineSpace::evaluateBatch(const Eigen::MatrixXd& control,
 }
 
 void TriBSplineSpace::evaluateBatch(const Eigen::MatrixXd& control,
-                                    const std::vector<DomainPoint>& points, int derivatives,
+                                    const std::vector<SurfacePoint>& points, int derivatives,
                                     SplineSamples& samples) const {
   if (control.rows() != numBasis())
     throw InputError("triangular B-spline: " + std::to_string(control.rows()) +
@@ -387,7 +386,7 @@ void TriBSplineSpace::evaluateBatch(const Eigen::MatrixXd& control,
   // tables in cache, which in random order cost more than the arithmetic (and more than the
   // scattered writes of the results; sorting only windows of the points is slower).
   std::vector<int> start(std::size_t(domain_.faceCount()) + 1, 0);
-  for (const DomainPoint& point : points) {
+  for (const SurfacePoint& point : points) {
     if (point.face < 0 || point.face >= domain_.faceCount())
       throw InputError("triangular B-spline: domain face " + std::to_string(point.face) +
                        " does not exist");
@@ -464,7 +463,7 @@ void addWeighted(int count, const double* rows, int width, const Weight& weight,
 }  // namespace
 
 template <int Parts, int Width>
-void TriBSplineSpace::evaluateOrdered(const std::vector<DomainPoint>& points,
+void TriBSplineSpace::evaluateOrdered(const std::vector<SurfacePoint>& points,
                                       const std::vector<int>& order, const RowMatrix& rows,
                                       SplineSamples& samples) const {
   constexpr int derivatives = Parts == 1 ? 0 : Parts == 3 ? 1 : 2;
@@ -497,7 +496,7 @@ void TriBSplineSpace::evaluateOrdered(const std::vector<DomainPoint>& points,
   for (std::size_t begin = 0; begin < points.size(); begin += kChunk) {
     const std::size_t end = std::min(points.size(), begin + kChunk);
     for (std::size_t i = begin; i < end; ++i) {
-      const DomainPoint& point = points[std::size_t(order[i])];
+      const SurfacePoint& point = points[std::size_t(order[i])];
       const auto& corners = corners_[std::size_t(point.face)];
       chunkPoints[i - begin] = point.barycentric[0] * corners[0] +
                                point.barycentric[1] * corners[1] +
@@ -630,7 +629,7 @@ void TriBSplineSpace::evaluateOrdered(const std::vector<DomainPoint>& points,
 }
 
 Eigen::VectorXd TriBSplineSpace::evaluateInChart(const Eigen::MatrixXd& control,
-                                                 const DomainPoint& point, int holder,
+                                                 const SurfacePoint& point, int holder,
                                                  ChartRoute route) const {
   const Eigen::Vector2d x = framePosition(point);
   const auto& holders = contributors_[std::size_t(point.face)];

@@ -29,9 +29,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "mspline/spline/core/spline_model.h"
 #include "mspline/spline/tribspline/dms_spline.h"
 #include "mspline/spline/tribspline/spline_domain.h"
-#include "mspline/spline/core/spline_model.h"
 
 namespace mspline::spline {
 
@@ -62,26 +62,26 @@ class TriBSplineSpace {
   const std::vector<FaceKnots>& knots() const { return knots_; }
 
   /// The point's position in its face's frame.
-  Eigen::Vector2d framePosition(const DomainPoint& point) const;
+  Eigen::Vector2d framePosition(const SurfacePoint& point) const;
 
   /// The normalized basis functions that may be non-zero at `point`, with derivatives (0, 1 or 2)
   /// with respect to the frame of point.face; `denominator` receives sum_k N_k at the point. At a
   /// cone point, where every function vanishes, `out` is left empty.
-  void basisAt(const DomainPoint& point, BasisValues& out, int derivatives = 0,
+  void basisAt(const SurfacePoint& point, BasisValues& out, int derivatives = 0,
                double* denominator = nullptr) const;
 
   /// The spline with control points `control` (numBasis() rows, any dimension) at a point, with
   /// derivatives in the frame of point.face. InputError at a cone point.
-  SplinePoint evaluate(const Eigen::MatrixXd& control, const DomainPoint& point,
+  SplinePoint evaluate(const Eigen::MatrixXd& control, const SurfacePoint& point,
                        int derivatives = 1) const;
   /// The same at many points (rows in the order of `points`); agrees with evaluate up to
   /// rounding. The points are taken face by face; where only a face's own functions reach (inside
   /// it, away from its sides' knot clouds) the sums come from its polynomial pieces
   /// (DmsSpace::trianglePolynomials), elsewhere function by function, normalized once per point.
   SplineSamples evaluateBatch(const Eigen::MatrixXd& control,
-                              const std::vector<DomainPoint>& points, int derivatives = 1) const;
+                              const std::vector<SurfacePoint>& points, int derivatives = 1) const;
   /// The same into `out`, reusing its matrices' storage when they have the size already.
-  void evaluateBatch(const Eigen::MatrixXd& control, const std::vector<DomainPoint>& points,
+  void evaluateBatch(const Eigen::MatrixXd& control, const std::vector<SurfacePoint>& points,
                      int derivatives, SplineSamples& out) const;
 
   /// The faces whose home charts hold `face` (their basis functions may be non-zero on it), one
@@ -100,7 +100,7 @@ class TriBSplineSpace {
   /// every basis function whose face that chart also holds, at the place where the function's
   /// own chart sees the point (within 1e-6 of the face's size: a chart may hold several copies),
   /// is evaluated through it as `route` says, the others in their own charts.
-  Eigen::VectorXd evaluateInChart(const Eigen::MatrixXd& control, const DomainPoint& point,
+  Eigen::VectorXd evaluateInChart(const Eigen::MatrixXd& control, const SurfacePoint& point,
                                   int holder, ChartRoute route) const;
 
  private:
@@ -125,7 +125,7 @@ class TriBSplineSpace {
   /// point] per basis function; Parts: 1, 3 or 6 for derivatives 0, 1, 2; Width: rows' columns
   /// when fixed at compile time, else 0.
   template <int Parts, int Width>
-  void evaluateOrdered(const std::vector<DomainPoint>& points, const std::vector<int>& order,
+  void evaluateOrdered(const std::vector<SurfacePoint>& points, const std::vector<int>& order,
                        const RowMatrix& rows, SplineSamples& samples) const;
   /// The barycentric coordinates of the frame position x in `face`.
   std::array<double, 3> barycentricAt(int face, const Eigen::Vector2d& x) const;

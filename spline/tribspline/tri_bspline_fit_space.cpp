@@ -34,11 +34,11 @@ Eigen::Vector2d framePoint(const std::array<Eigen::Vector2d, 3>& corners, Eigen:
 
 }  // namespace
 
-FitParameter toFitParameter(const TriBSplineSpace& space, const DomainPoint& point) {
+FacePoint toFitParameter(const TriBSplineSpace& space, const SurfacePoint& point) {
   return {point.face, space.framePosition(point)};
 }
 
-DomainPoint toDomainPoint(const TriBSplineSpace& space, const FitParameter& p) {
+SurfacePoint toDomainPoint(const TriBSplineSpace& space, const FacePoint& p) {
   if (p.face < 0 || p.face >= space.domain().faceCount())
     throw structure::InputError("fit parameter: domain face " + std::to_string(p.face) +
                                 " does not exist");
@@ -47,7 +47,7 @@ DomainPoint toDomainPoint(const TriBSplineSpace& space, const FitParameter& p) {
 
 TriBSplineFitSpace::TriBSplineFitSpace(const TriBSplineSpace& space) : space_(space) {}
 
-void TriBSplineFitSpace::basisAt(const FitParameter& p, std::vector<FitBasisTerm>& out,
+void TriBSplineFitSpace::basisAt(const FacePoint& p, std::vector<FitBasisTerm>& out,
                                  int derivatives) const {
   thread_local BasisValues values;
   out.clear();
@@ -69,15 +69,15 @@ void TriBSplineFitSpace::basisAt(const FitParameter& p, std::vector<FitBasisTerm
   }
 }
 
-FitParameter TriBSplineFitSpace::walk(const FitParameter& p, const Eigen::Vector2d& step) const {
+FacePoint TriBSplineFitSpace::walk(const FacePoint& p, const Eigen::Vector2d& step) const {
   Eigen::Vector2d turnedStep;
   return walk(p, step, turnedStep);
 }
 
-FitParameter TriBSplineFitSpace::walk(const FitParameter& p, const Eigen::Vector2d& step,
-                                      Eigen::Vector2d& turnedStep) const {
+FacePoint TriBSplineFitSpace::walk(const FacePoint& p, const Eigen::Vector2d& step,
+                                   Eigen::Vector2d& turnedStep) const {
   const SplineDomain& domain = space_.domain();
-  FitParameter at = p;
+  FacePoint at = p;
   toDomainPoint(space_, at);  // checks the face
   // What is left of the step, and the whole step, in the frame of at.face.
   Eigen::Vector2d rest = step;
@@ -162,7 +162,7 @@ const std::array<std::array<Eigen::Vector3d, 3>, 4> kMidpointTriangles{{
 
 }  // namespace
 
-void TriBSplineFitSpace::quadrature(std::vector<FitParameter>& nodes,
+void TriBSplineFitSpace::quadrature(std::vector<FacePoint>& nodes,
                                     std::vector<double>& weights) const {
   // Dunavant's 7-point rule (exact to degree 5): the centroid and two orbits of three points.
   const double r = std::sqrt(15.0);
@@ -190,7 +190,7 @@ void TriBSplineFitSpace::quadrature(std::vector<FitParameter>& nodes,
       for (std::size_t k = 0; k < points.size(); ++k) {
         const Eigen::Vector3d b =
             points[k][0] * sub[0] + points[k][1] * sub[1] + points[k][2] * sub[2];
-        const DomainPoint point{f, b};
+        const SurfacePoint point{f, b};
         double denominator = 0.0;
         space_.basisAt(point, values, 0, &denominator);
         // Near a cone the normalization divides by a vanishing sum: second derivatives there

@@ -16,25 +16,24 @@ namespace mspline::spline {
 
 /// The fit parameter of a domain point: its face and its position in that face's frame
 /// (TriBSplineSpace::framePosition). InputError for a face out of range.
-FitParameter toFitParameter(const TriBSplineSpace& space, const DomainPoint& point);
+FacePoint toFitParameter(const TriBSplineSpace& space, const SurfacePoint& point);
 /// The domain point of a fit parameter (barycentric coordinates from the frame position).
 /// InputError for a face out of range.
-DomainPoint toDomainPoint(const TriBSplineSpace& space, const FitParameter& p);
+SurfacePoint toDomainPoint(const TriBSplineSpace& space, const FacePoint& p);
 
 class TriBSplineFitSpace : public FitSpace {
  public:
   /// Keeps a reference: `space` must outlive this object.
   explicit TriBSplineFitSpace(const TriBSplineSpace& space);
   int numBasis() const override { return space_.numBasis(); }
-  void basisAt(const FitParameter& p, std::vector<FitBasisTerm>& out,
-               int derivatives) const override;
-  FitParameter walk(const FitParameter& p, const Eigen::Vector2d& step) const override;
+  void basisAt(const FacePoint& p, std::vector<FitBasisTerm>& out, int derivatives) const override;
+  FacePoint walk(const FacePoint& p, const Eigen::Vector2d& step) const override;
   /// walk, and `turnedStep` receives `step` turned into the frame of the face reached (walking
   /// back by -turnedStep from there returns to `p`, unless a cone stopped the walk).
-  FitParameter walk(const FitParameter& p, const Eigen::Vector2d& step,
-                    Eigen::Vector2d& turnedStep) const;
+  FacePoint walk(const FacePoint& p, const Eigen::Vector2d& step,
+                 Eigen::Vector2d& turnedStep) const;
   double faceSize(int face) const override;
-  void quadrature(std::vector<FitParameter>& nodes, std::vector<double>& weights) const override;
+  void quadrature(std::vector<FacePoint>& nodes, std::vector<double>& weights) const override;
 
  private:
   const TriBSplineSpace& space_;

@@ -300,8 +300,8 @@ LayoutTMesh layoutTMesh(const MotorcycleLayout& layout, const LayoutTMeshOptions
       std::to_string(grid.cellSize));
 }
 
-TMeshPoint layoutPoint(const MotorcycleLayout& layout, const LayoutTMesh& grid,
-                       const structure::RectanglePoint& point) {
+FacePoint layoutPoint(const MotorcycleLayout& layout, const LayoutTMesh& grid,
+                      const structure::RectanglePoint& point) {
   const LayoutRectangle& rect = layout.rectangles().at(std::size_t(point.rectangle));
   const auto [cellsX, cellsY] = grid.rectangleCells[std::size_t(point.rectangle)];
   std::array<SideScale, 4> sides;

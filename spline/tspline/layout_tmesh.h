@@ -1,12 +1,12 @@
 #pragma once
-// A seamless quad mesh from a rectangle layout (structure/layout/motorcycle_layout.h): every segment of
-// the layout gets a whole number of cells, chosen so that opposite sides of every rectangle get
-// the same number (an integer-grid map in the sense of Bommes et al. and Campen et al.: the
-// rectangles, rescaled to whole sides, glue to a flat surface with the same cones), then every
-// rectangle is gridded into unit cells. Grid lines meet across every side, so the T-mesh has no
-// T-junctions; its only extraordinary vertices are the cones, and every knot interval is one, which
-// makes the cubic T-spline a uniform B-spline wherever the mesh is regular (OpenSubdiv's limit
-// surface there).
+// A seamless quad mesh from a rectangle layout (structure/layout/motorcycle_layout.h): every
+// segment of the layout gets a whole number of cells, chosen so that opposite sides of every
+// rectangle get the same number (an integer-grid map in the sense of Bommes et al. and Campen et
+// al.: the rectangles, rescaled to whole sides, glue to a flat surface with the same cones), then
+// every rectangle is gridded into unit cells. Grid lines meet across every side, so the T-mesh has
+// no T-junctions; its only extraordinary vertices are the cones, and every knot interval is one,
+// which makes the cubic T-spline a uniform B-spline wherever the mesh is regular (OpenSubdiv's
+// limit surface there).
 //
 // Rounding: the integer solutions of the rectangles' constraints form a lattice; its basis comes
 // from unimodular column operations (a Hermite normal form), so rounding its coefficients can never
@@ -55,7 +55,7 @@ LayoutTMesh layoutTMesh(const structure::MotorcycleLayout& layout,
 /// The point of the T-mesh at a point of the layout: the rectangle rescaled to its cells, the
 /// sides piecewise linearly through their nodes, the inside blended between opposite sides
 /// (continuous across rectangles).
-TMeshPoint layoutPoint(const structure::MotorcycleLayout& layout, const LayoutTMesh& grid,
-                       const structure::RectanglePoint& point);
+FacePoint layoutPoint(const structure::MotorcycleLayout& layout, const LayoutTMesh& grid,
+                      const structure::RectanglePoint& point);
 
 }  // namespace mspline::spline

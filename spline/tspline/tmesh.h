@@ -10,7 +10,12 @@
 
 #include <Eigen/Core>
 
+#include "mspline/structure/core/surface_point.h"
+
 namespace mspline::spline {
+
+using structure::FacePoint;
+using structure::SurfacePoint;
 
 /// A motion x -> R x + translation, R the rotation by quarterTurns * 90 degrees counter-clockwise.
 /// With integer translations (knot intervals on an integer grid) every operation is exact.
@@ -79,12 +84,6 @@ struct TMesh {
   /// Frame change across boundary edge `edge` of `face`: maps the face's frame onto its twin's.
   /// Throws InputError at the boundary.
   QuarterMotion acrossEdge(int face, int edge) const;
-};
-
-/// A point on the surface given as T-mesh face and a position in its frame.
-struct TMeshPoint {
-  int face = -1;
-  Eigen::Vector2d position = Eigen::Vector2d::Zero();
 };
 
 /// Completes faces given by vertices and positions (width, height, twins, vertex angles) and

@@ -36,8 +36,8 @@ double sideValue(const TMeshFace& face, int s) {
 
 }  // namespace
 
-TMeshPoint walkTMesh(const TMesh& mesh, const TMeshPoint& start, const Eigen::Vector2d& step,
-                     bool* reachedBoundary) {
+FacePoint walkTMesh(const TMesh& mesh, const FacePoint& start, const Eigen::Vector2d& step,
+                    bool* reachedBoundary) {
   if (start.face < 0 || start.face >= mesh.numFaces())
     throw InputError("T-mesh walk: face " + std::to_string(start.face) + " out of range (" +
                      std::to_string(mesh.numFaces()) + " faces)");

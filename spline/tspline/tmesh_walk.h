@@ -15,7 +15,7 @@ namespace mspline::spline {
 /// (false otherwise). A segment that would pass exactly through a vertex, where the next face is
 /// ambiguous (and around a cone undefined), is moved sideways by about 1e-7 of the face's size.
 /// Throws InputError for a face out of range or a non-finite position or step.
-TMeshPoint walkTMesh(const TMesh& mesh, const TMeshPoint& start, const Eigen::Vector2d& step,
-                     bool* reachedBoundary = nullptr);
+FacePoint walkTMesh(const TMesh& mesh, const FacePoint& start, const Eigen::Vector2d& step,
+                    bool* reachedBoundary = nullptr);
 
 }  // namespace mspline::spline

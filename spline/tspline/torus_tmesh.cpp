@@ -33,7 +33,7 @@ double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
 
 }  // namespace
 
-TMeshPoint gridPoint(const TorusTMesh& torus, const Eigen::Vector2d& grid) {
+FacePoint gridPoint(const TorusTMesh& torus, const Eigen::Vector2d& grid) {
   const int n = torus.cellsAlongFirst, m = torus.cellsAlongSecond;
   double x = std::fmod(grid.x(), double(n)), y = std::fmod(grid.y(), double(m));
   if (x < 0.0) x += n;

@@ -35,11 +35,11 @@ struct TorusTMesh {
   /// Ratio of the map's singular values: 1 for a similarity (square cells on the surface).
   double anisotropy = 1.0;
   /// Per surface face corner (3 f + k, the layout's corner order), its point on the T-mesh.
-  std::vector<TMeshPoint> cornerPoints;
+  std::vector<FacePoint> cornerPoints;
 };
 
 /// Grid point (in grid units, any lift) as a point of the periodic grid.
-TMeshPoint gridPoint(const TorusTMesh& torus, const Eigen::Vector2d& grid);
+FacePoint gridPoint(const TorusTMesh& torus, const Eigen::Vector2d& grid);
 
 /// Builds the grid for a layout with periods (layoutFlatMetric on a closed genus-1 surface without
 /// cones). Throws InputError when the layout has no periods or they are degenerate.

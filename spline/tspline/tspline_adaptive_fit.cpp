@@ -14,7 +14,7 @@ namespace mspline::spline {
 namespace {
 
 // Splits `face` of `mesh` along `axis` at its middle; samples on the far part follow it.
-void splitHalf(TMesh& mesh, int face, int axis, std::vector<FitParameter>& parameters) {
+void splitHalf(TMesh& mesh, int face, int axis, std::vector<FacePoint>& parameters) {
   const TMeshFace& f = mesh.faces[std::size_t(face)];
   const double middle = 0.5 * (axis == 0 ? f.width : f.height);
   const int far = mesh.numFaces();
@@ -29,13 +29,13 @@ void splitHalf(TMesh& mesh, int face, int axis, std::vector<FitParameter>& param
 }  // namespace
 
 TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
-                                              const std::vector<TMeshPoint>& parameters,
+                                              const std::vector<FacePoint>& parameters,
                                               const Eigen::MatrixX3d& targets,
                                               const TSplineAdaptiveFitOptions& options,
                                               const FitProgress& progress) {
   TSplineAdaptiveFitResult result;
   result.mesh = mesh;
-  std::vector<FitParameter> current;
+  std::vector<FacePoint> current;
   current.reserve(parameters.size());
   for (const auto& p : parameters) current.push_back({p.face, p.position});
   const Eigen::VectorXd unitWeights;

@@ -40,7 +40,7 @@ struct TSplineAdaptiveFitResult {
   TMesh mesh;
   SurfaceFitResult fit;
   /// The samples' parameters on `mesh` (after parameter correction).
-  std::vector<TMeshPoint> parameters;
+  std::vector<FacePoint> parameters;
   std::vector<TSplineFitRound> rounds;
   /// RMS <= tolerance and max <= maxErrorFactor * tolerance.
   bool reachedTolerance = false;
@@ -50,7 +50,7 @@ struct TSplineAdaptiveFitResult {
 /// sample) from the samples' initial `parameters`. With sample weights (options.fit), faces are
 /// refined by sqrt(weight) * distance.
 TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
-                                              const std::vector<TMeshPoint>& parameters,
+                                              const std::vector<FacePoint>& parameters,
                                               const Eigen::MatrixX3d& targets,
                                               const TSplineAdaptiveFitOptions& options = {},
                                               const FitProgress& progress = {});

@@ -164,14 +164,14 @@ void TSplineBezier::evaluate(int face, const Eigen::Vector2d& p, Eigen::Vector3d
   if (dt) *dt = (hv.head<3>().transpose() - hv[3] * position) / (h[3] * height);
 }
 
-void TSplineBezier::evaluate(const std::vector<TMeshPoint>& points, Eigen::MatrixX3d& position,
+void TSplineBezier::evaluate(const std::vector<FacePoint>& points, Eigen::MatrixX3d& position,
                              Eigen::MatrixX3d& ds, Eigen::MatrixX3d& dt) const {
   const Eigen::Index n = static_cast<Eigen::Index>(points.size());
   position.resize(n, 3);
   ds.resize(n, 3);
   dt.resize(n, 3);
   for (Eigen::Index k = 0; k < n; ++k) {
-    const TMeshPoint& point = points[static_cast<std::size_t>(k)];
+    const FacePoint& point = points[static_cast<std::size_t>(k)];
     if (point.face < 0 || point.face >= static_cast<int>(splitsX_.size()))
       throw InputError("Bezier evaluation: face " + std::to_string(point.face) + " out of range");
     Eigen::Vector3d x, u, v;

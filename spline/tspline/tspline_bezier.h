@@ -43,7 +43,7 @@ class TSplineBezier {
                 Eigen::Vector3d* ds = nullptr, Eigen::Vector3d* dt = nullptr,
                 double* denominator = nullptr) const;
   /// The same for many points, one row each.
-  void evaluate(const std::vector<TMeshPoint>& points, Eigen::MatrixX3d& position,
+  void evaluate(const std::vector<FacePoint>& points, Eigen::MatrixX3d& position,
                 Eigen::MatrixX3d& ds, Eigen::MatrixX3d& dt) const;
 
  private:

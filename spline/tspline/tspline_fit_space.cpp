@@ -10,7 +10,7 @@ namespace mspline::spline {
 TSplineFitSpace::TSplineFitSpace(const TSplineSpace& space, const Eigen::VectorXd& weights)
     : space_(space), weights_(weights) {}
 
-void TSplineFitSpace::basisAt(const FitParameter& p, std::vector<FitBasisTerm>& out,
+void TSplineFitSpace::basisAt(const FacePoint& p, std::vector<FitBasisTerm>& out,
                               int derivatives) const {
   thread_local std::vector<TSplineBasisValue> raw;
   out.clear();
@@ -46,8 +46,8 @@ void TSplineFitSpace::basisAt(const FitParameter& p, std::vector<FitBasisTerm>& 
   }
 }
 
-FitParameter TSplineFitSpace::walk(const FitParameter& p, const Eigen::Vector2d& step) const {
-  const TMeshPoint end = walkTMesh(space_.mesh(), TMeshPoint{p.face, p.position}, step);
+FacePoint TSplineFitSpace::walk(const FacePoint& p, const Eigen::Vector2d& step) const {
+  const FacePoint end = walkTMesh(space_.mesh(), FacePoint{p.face, p.position}, step);
   return {end.face, end.position};
 }
 
@@ -56,7 +56,7 @@ double tmeshFaceSize(const TMesh& mesh, int face) {
   return std::max(f.width, f.height);
 }
 
-void tmeshQuadrature(const TMesh& mesh, std::vector<FitParameter>& nodes,
+void tmeshQuadrature(const TMesh& mesh, std::vector<FacePoint>& nodes,
                      std::vector<double>& weights) {
   // Gauss-Legendre, 4 points on [0, 1].
   const std::array<double, 4> x{0.0694318442029737, 0.3300094782075719, 0.6699905217924281,
@@ -80,7 +80,7 @@ double TSplineFitSpace::faceSize(int face) const {
   return tmeshFaceSize(space_.mesh(), face);
 }
 
-void TSplineFitSpace::quadrature(std::vector<FitParameter>& nodes,
+void TSplineFitSpace::quadrature(std::vector<FacePoint>& nodes,
                                  std::vector<double>& weights) const {
   tmeshQuadrature(space_.mesh(), nodes, weights);
 }

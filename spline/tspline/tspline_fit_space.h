@@ -13,7 +13,7 @@ namespace mspline::spline {
 /// What every spline on a T-mesh uses as FitSpace::faceSize and FitSpace::quadrature: the longer
 /// side of the face, and a 4 x 4 Gauss-Legendre rule per face.
 double tmeshFaceSize(const TMesh& mesh, int face);
-void tmeshQuadrature(const TMesh& mesh, std::vector<FitParameter>& nodes,
+void tmeshQuadrature(const TMesh& mesh, std::vector<FacePoint>& nodes,
                      std::vector<double>& weights);
 
 class TSplineFitSpace : public FitSpace {
@@ -22,11 +22,10 @@ class TSplineFitSpace : public FitSpace {
   /// `weights` must outlive this object.
   TSplineFitSpace(const TSplineSpace& space, const Eigen::VectorXd& weights);
   int numBasis() const override { return space_.numBasis(); }
-  void basisAt(const FitParameter& p, std::vector<FitBasisTerm>& out,
-               int derivatives) const override;
-  FitParameter walk(const FitParameter& p, const Eigen::Vector2d& step) const override;
+  void basisAt(const FacePoint& p, std::vector<FitBasisTerm>& out, int derivatives) const override;
+  FacePoint walk(const FacePoint& p, const Eigen::Vector2d& step) const override;
   double faceSize(int face) const override;
-  void quadrature(std::vector<FitParameter>& nodes, std::vector<double>& weights) const override;
+  void quadrature(std::vector<FacePoint>& nodes, std::vector<double>& weights) const override;
 
  private:
   const TSplineSpace& space_;

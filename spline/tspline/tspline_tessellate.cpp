@@ -60,16 +60,16 @@ TMeshTessellation tessellateTMeshSurface(const TMesh& mesh, const TMeshSurface& 
   out.sampleOffsets.push_back(0);
   // A sample at the surface point given by `placements` (the same point in the frames of every
   // face holding it); all of them are used only in a hole.
-  const auto add = [&](const std::vector<TMeshPoint>& placements) {
+  const auto add = [&](const std::vector<FacePoint>& placements) {
     const auto index = std::int64_t(out.mesh.positions.size());
-    const TMeshPoint& point = placements.front();
+    const FacePoint& point = placements.front();
     Eigen::Vector3d x;
     if (surfaceAt(point.face, point.position, x)) {
       out.samplePoints.push_back(point);
     } else {
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
       int count = 0;
-      for (const TMeshPoint& q : placements) {
+      for (const FacePoint& q : placements) {
         const TMeshFace& face = mesh.faces[std::size_t(q.face)];
         const Eigen::Vector2d centre(face.width / 2.0, face.height / 2.0);
         // Steps fine enough that the samples along a side in a hole stay apart (a coarse step
@@ -98,7 +98,7 @@ TMeshTessellation tessellateTMeshSurface(const TMesh& mesh, const TMeshSurface& 
   };
 
   // Vertices: one sample each, at the vertex's place in every face that has it on its boundary.
-  std::vector<std::vector<TMeshPoint>> vertexPlacements(std::size_t(mesh.numVertices));
+  std::vector<std::vector<FacePoint>> vertexPlacements(std::size_t(mesh.numVertices));
   for (int f = 0; f < mesh.numFaces(); ++f)
     for (std::size_t k = 0; k < mesh.faces[std::size_t(f)].vertices.size(); ++k)
       vertexPlacements[std::size_t(mesh.faces[std::size_t(f)].vertices[k])].push_back(
@@ -132,7 +132,7 @@ TMeshTessellation tessellateTMeshSurface(const TMesh& mesh, const TMeshSurface& 
         continue;
       }
       for (int i = 1; i < r; ++i) {
-        std::vector<TMeshPoint> placements{{f, edgePoint(f, k, i)}};
+        std::vector<FacePoint> placements{{f, edgePoint(f, k, i)}};
         if (g >= 0)
           placements.push_back({g, mesh.acrossEdge(f, int(k)).apply(placements[0].position)});
         const std::int64_t index = add(placements);
@@ -268,7 +268,7 @@ TMeshTessellation tessellateTMeshSurface(const TMesh& mesh, const TMeshSurface& 
   std::vector<char> inHole(out.vertexPoints.size(), 0);
   for (int v : out.holeVertices) inHole[std::size_t(v)] = 1;
   for (std::size_t v = 0; v < out.vertexPoints.size(); ++v) {
-    const TMeshPoint& point = out.vertexPoints[v];
+    const FacePoint& point = out.vertexPoints[v];
     out.uvs.push_back({point.position.x(), point.position.y()});
     Eigen::Vector3d x, normal = Eigen::Vector3d::Zero();
     if (!inHole[v] && !surface(point.face, point.position, x, &normal)) normal.setZero();

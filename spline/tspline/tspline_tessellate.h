@@ -50,7 +50,7 @@ struct TMeshTessellation {
   structure::PolygonSoup mesh;
   /// Per mesh vertex: the T-mesh point it is the surface at (for a hole sample, the point in the
   /// hole it stands for). Mesh vertex v < TMesh::numVertices is T-mesh vertex v's sample.
-  std::vector<TMeshPoint> vertexPoints;
+  std::vector<FacePoint> vertexPoints;
   /// The mesh vertices that are hole samples (ascending).
   std::vector<int> holeVertices;
   /// See the header comment.
@@ -71,7 +71,7 @@ struct TMeshTessellation {
   /// the hole samples, which have the points off the hole (one per face around it that has one).
   /// sampleOffsets has one entry more than the mesh has vertices.
   std::vector<std::int64_t> sampleOffsets;
-  std::vector<TMeshPoint> samplePoints;
+  std::vector<FacePoint> samplePoints;
 };
 
 struct TSplineTessellation : TMeshTessellation {

@@ -330,8 +330,8 @@ std::vector<ChartPoint> chartsContaining(const TriMesh& mesh, const AffineAtlas&
   return points;
 }
 
-ChartLocation locateInChart(const TriMesh& mesh, const AffineAtlas& atlas, int chart,
-                            const Eigen::Vector2d& x, double tolerance) {
+SurfacePoint locateInChart(const TriMesh& mesh, const AffineAtlas& atlas, int chart,
+                           const Eigen::Vector2d& x, double tolerance) {
   if (chart < 0 || chart >= int(atlas.charts.size()))
     throw InputError("atlas: chart " + std::to_string(chart) + " does not exist");
   const Chart& c = atlas.charts[std::size_t(chart)];

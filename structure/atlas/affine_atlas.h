@@ -16,9 +16,10 @@
 
 #include <Eigen/Core>
 
-#include "mspline/structure/ricci/curvature_target.h"
+#include "mspline/structure/core/surface_point.h"
 #include "mspline/structure/layout/flat_layout.h"
 #include "mspline/structure/mesh/tri_mesh.h"
+#include "mspline/structure/ricci/curvature_target.h"
 
 namespace mspline::structure {
 
@@ -137,12 +138,8 @@ std::vector<ChartPoint> chartsContaining(const TriMesh& mesh, const AffineAtlas&
 /// Point location in a chart: the face of chart `chart` containing planar point x and its
 /// barycentric coordinates (face -1 when x lies outside the star). Points on a shared edge go to
 /// the first face found.
-struct ChartLocation {
-  int face = -1;
-  Eigen::Vector3d barycentric = Eigen::Vector3d::Zero();
-};
-ChartLocation locateInChart(const TriMesh& mesh, const AffineAtlas& atlas, int chart,
-                            const Eigen::Vector2d& x, double tolerance = 1e-12);
+SurfacePoint locateInChart(const TriMesh& mesh, const AffineAtlas& atlas, int chart,
+                           const Eigen::Vector2d& x, double tolerance = 1e-12);
 
 /// Holonomy of the closed vertex loop v0, v1, ..., v_k-1, back to v0 (consecutive vertices
 /// adjacent, none a cone): the composed transitions, a map of chart v0 to itself. A loop turning

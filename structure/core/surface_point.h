@@ -1,5 +1,8 @@
 #pragma once
-// A point anywhere on a triangle mesh: a face and barycentric coordinates in it.
+// A point on a triangulated surface given by a face and barycentric coordinates in it (any
+// triangulation: a mesh, a coarse triangulation, a spline domain, a chart's star), and a point of
+// a surface of faces given by a face and a position in that face's own frame (a T-mesh rectangle,
+// a spline domain face's home chart): the one type of each kind every layer uses.
 #include <string>
 #include <vector>
 
@@ -10,11 +13,19 @@
 namespace mspline::structure {
 
 struct SurfacePoint {
+  /// Face index (-1: no face, e.g. a point outside a chart).
+  int face = -1;
+  /// Weights of the face's corners, summing to 1, in the order the triangulation lists them (for
+  /// a TriMesh the vertex circulator: corner k is the k-th vertex of fv_range, as
+  /// FlatLayout::cornerUV).
+  Eigen::Vector3d barycentric = Eigen::Vector3d::Constant(1.0 / 3.0);
+};
+
+struct FacePoint {
   /// Face index.
   int face = -1;
-  /// Weights of the face's corners, in the order of its vertex circulator (corner k is the k-th
-  /// vertex of fv_range, as FlatLayout::cornerUV); >= 0, summing to 1.
-  Eigen::Vector3d barycentric = Eigen::Vector3d::Constant(1.0 / 3.0);
+  /// Position in the face's own frame.
+  Eigen::Vector2d position = Eigen::Vector2d::Zero();
 };
 
 /// Throws InputError "<what>: ..." unless the face exists in `mesh` and the coordinates are finite,

@@ -7,10 +7,10 @@
 // glued along the boundary, the second mirrored), as Gillespie, Springborn and Crane do: there the
 // intrinsic triangulation may cross the boundary, and by symmetry the boundary stays a geodesic.
 // The overlay of the double is then cut back to the input's half.
-#include "mspline/structure/ricci/curvature_target.h"
 #include "mspline/structure/intrinsic/intrinsic_overlay.h"
 #include "mspline/structure/intrinsic/ricci_flips.h"
 #include "mspline/structure/mesh/tri_mesh.h"
+#include "mspline/structure/ricci/curvature_target.h"
 
 namespace mspline::structure {
 

@@ -9,10 +9,10 @@
 
 #include <Eigen/Core>
 
-#include "mspline/structure/ricci/curvature_target.h"
 #include "mspline/structure/intrinsic/intrinsic_triangulation.h"
-#include "mspline/structure/ricci/ricci_newton.h"
 #include "mspline/structure/mesh/tri_mesh.h"
+#include "mspline/structure/ricci/curvature_target.h"
+#include "mspline/structure/ricci/ricci_newton.h"
 
 namespace mspline::structure {
 

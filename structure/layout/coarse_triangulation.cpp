@@ -12,8 +12,8 @@
 #include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/core/surface_point.h"
-#include "mspline/structure/topology/topology.h"
 #include "mspline/structure/ricci/vertex_scaling_energy.h"
+#include "mspline/structure/topology/topology.h"
 
 namespace mspline::structure {
 
@@ -680,7 +680,7 @@ CoarseTriangulation coarsenFlatMetric(const TriMesh& surface, const Eigen::Vecto
 }
 
 std::vector<DevelopedFace> developFromPoint(const CoarseTriangulation& coarse,
-                                            const SurfaceLocation& origin, double radius) {
+                                            const SurfacePoint& origin, double radius) {
   const int faceCount = int(coarse.faces.size());
   if (origin.face < 0 || origin.face >= faceCount)
     throw InputError("coarse development: face " + std::to_string(origin.face) +
@@ -773,7 +773,7 @@ std::vector<DevelopedFace> developFromPoint(const CoarseTriangulation& coarse,
 std::vector<Eigen::Vector2d> sightingsOfFineVertex(const CoarseTriangulation& coarse,
                                                    const std::vector<DevelopedFace>& development,
                                                    int fineVertex) {
-  const SurfaceLocation& at = coarse.fineVertices[fineVertex];
+  const SurfacePoint& at = coarse.fineVertices[fineVertex];
   const int vertex = coarse.coarseVertex[fineVertex];
   std::vector<Vector2> found;
   const auto consider = [&](const DevelopedFace& copy, const Vector2& x) {
@@ -790,8 +790,8 @@ std::vector<Eigen::Vector2d> sightingsOfFineVertex(const CoarseTriangulation& co
   return found;
 }
 
-SurfaceLocation locateOnCoarse(const TriMesh& surface, const CoarseTriangulation& coarse,
-                               int fineFace, const Eigen::Vector3d& barycentric) {
+SurfacePoint locateOnCoarse(const TriMesh& surface, const CoarseTriangulation& coarse, int fineFace,
+                            const Eigen::Vector3d& barycentric) {
   checkSurfacePoint(surface, {fineFace, barycentric}, "coarse location");
   if (coarse.fineVertices.size() != surface.n_vertices() ||
       coarse.fineLengths.size() != Eigen::Index(surface.n_edges()))
@@ -841,7 +841,7 @@ SurfaceLocation locateOnCoarse(const TriMesh& surface, const CoarseTriangulation
   const Vector2 q = pointAt(corner, barycentric);
   if (q.norm() <= kCornerTolerance * std::max(lj, lk)) return coarse.fineVertices[vertex[s]];
   const double phi = std::atan2(q.y(), q.x());
-  SurfaceLocation best;
+  SurfacePoint best;
   double bestMin = -std::numeric_limits<double>::infinity();
   for (const DevelopedFace& copy : copies) {
     if (!seenThrough(copy, phi)) continue;

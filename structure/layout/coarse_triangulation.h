@@ -26,6 +26,7 @@
 
 #include <Eigen/Core>
 
+#include "mspline/structure/core/surface_point.h"
 #include "mspline/structure/mesh/tri_mesh.h"
 
 namespace mspline::structure {
@@ -57,14 +58,6 @@ struct CoarseningOptions {
   bool separateCones = false;
 };
 
-/// A point of the coarse triangulation.
-struct SurfaceLocation {
-  /// Coarse face.
-  int face = -1;
-  /// Weights of the face's corners 0, 1, 2 (CoarseTriangulation::faces order), summing to 1.
-  Eigen::Vector3d barycentric = Eigen::Vector3d::Constant(1.0 / 3.0);
-};
-
 struct CoarseTriangulation {
   /// Coarse vertex k is fine vertex vertices[k] (ascending fine indices).
   std::vector<int> vertices;
@@ -83,7 +76,7 @@ struct CoarseTriangulation {
   std::vector<double> curvature;
   /// Per fine vertex: where it lies in the coarse triangulation. A kept vertex is a corner of a
   /// face (barycentric coordinates a unit vector).
-  std::vector<SurfaceLocation> fineVertices;
+  std::vector<SurfacePoint> fineVertices;
   /// The fine surface's flat edge lengths (by edge idx()), which locateOnCoarse measures with.
   Eigen::VectorXd fineLengths;
 
@@ -141,7 +134,7 @@ struct DevelopedFace {
 /// so). Throws InputError for a face out of range, InternalError when the development does not end
 /// (inconsistent adjacency).
 std::vector<DevelopedFace> developFromPoint(const CoarseTriangulation& coarse,
-                                            const SurfaceLocation& origin, double radius);
+                                            const SurfacePoint& origin, double radius);
 
 /// The positions of fine vertex `fineVertex` in `development` (from developFromPoint) that a
 /// straight segment from the origin reaches: the distances to them are lengths of straight
@@ -158,7 +151,7 @@ std::vector<Eigen::Vector2d> sightingsOfFineVertex(const CoarseTriangulation& co
 /// of range, coordinates not >= 0 with sum 1, or a coarse triangulation of another surface,
 /// InternalError when the construction is inconsistent (a vertex not found or the laid-out fine
 /// triangle not matching its lengths).
-SurfaceLocation locateOnCoarse(const TriMesh& surface, const CoarseTriangulation& coarse,
-                               int fineFace, const Eigen::Vector3d& barycentric);
+SurfacePoint locateOnCoarse(const TriMesh& surface, const CoarseTriangulation& coarse, int fineFace,
+                            const Eigen::Vector3d& barycentric);
 
 }  // namespace mspline::structure

@@ -11,10 +11,10 @@
 #include <Eigen/Dense>
 
 #include "mspline/structure/core/constants.h"
-#include "mspline/structure/topology/cut_graph.h"
 #include "mspline/structure/core/errors.h"
-#include "mspline/structure/topology/homotopy_basis.h"
 #include "mspline/structure/ricci/vertex_scaling_energy.h"
+#include "mspline/structure/topology/cut_graph.h"
+#include "mspline/structure/topology/homotopy_basis.h"
 
 namespace mspline::structure {
 

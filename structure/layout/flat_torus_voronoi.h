@@ -7,8 +7,8 @@
 
 #include <Eigen/Core>
 
-#include "mspline/structure/layout/flat_layout.h"
 #include "mspline/structure/core/surface_point.h"
+#include "mspline/structure/layout/flat_layout.h"
 #include "mspline/structure/mesh/tri_mesh.h"
 
 namespace mspline::structure {

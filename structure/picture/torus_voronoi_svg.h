@@ -3,9 +3,9 @@
 #include <string>
 #include <vector>
 
+#include "mspline/structure/core/surface_point.h"
 #include "mspline/structure/layout/flat_layout.h"
 #include "mspline/structure/layout/flat_torus_voronoi.h"
-#include "mspline/structure/core/surface_point.h"
 #include "mspline/structure/mesh/tri_mesh.h"
 
 namespace mspline::structure {

@@ -16,8 +16,8 @@
 #include <Eigen/Core>
 
 #include "mspline/structure/core/constants.h"
-#include "mspline/structure/ricci/curvature_target.h"
 #include "mspline/structure/mesh/tri_mesh.h"
+#include "mspline/structure/ricci/curvature_target.h"
 
 namespace mspline::structure {
 

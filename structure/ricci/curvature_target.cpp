@@ -10,8 +10,7 @@
 
 namespace mspline::structure {
 
-namespace {
-}  // namespace
+namespace {}  // namespace
 
 CurvatureTarget flatTarget(const TriMesh& mesh, const std::vector<Cone>& cones,
                            BoundaryCondition boundary) {

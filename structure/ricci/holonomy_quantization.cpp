@@ -8,10 +8,10 @@
 
 #include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
-#include "mspline/structure/topology/homotopy_basis.h"
 #include "mspline/structure/core/index_map.h"
 #include "mspline/structure/core/sparse_cholesky.h"
 #include "mspline/structure/ricci/vertex_scaling_energy.h"
+#include "mspline/structure/topology/homotopy_basis.h"
 
 namespace mspline::structure {
 

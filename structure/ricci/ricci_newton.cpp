@@ -9,8 +9,8 @@
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/core/index_map.h"
 #include "mspline/structure/core/sparse_cholesky.h"
-#include "mspline/structure/topology/topology.h"
 #include "mspline/structure/ricci/vertex_scaling_energy.h"
+#include "mspline/structure/topology/topology.h"
 
 namespace mspline::structure {
 

@@ -7,11 +7,11 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
-#include "mspline/structure/ricci/curvature_target.h"
 #include "mspline/structure/core/index_map.h"
-#include "mspline/structure/ricci/ricci_scheme.h"
 #include "mspline/structure/core/sparse_cholesky.h"
 #include "mspline/structure/mesh/tri_mesh.h"
+#include "mspline/structure/ricci/curvature_target.h"
+#include "mspline/structure/ricci/ricci_scheme.h"
 
 namespace mspline::structure {
 

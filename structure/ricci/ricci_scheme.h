@@ -7,9 +7,9 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
-#include "mspline/structure/ricci/circle_packing_energy.h"
 #include "mspline/structure/core/index_map.h"
 #include "mspline/structure/mesh/tri_mesh.h"
+#include "mspline/structure/ricci/circle_packing_energy.h"
 
 namespace mspline::structure {
 

@@ -2,8 +2,8 @@
 // A cut graph: a set of mesh edges along which the surface opens into one topological disk.
 #include <vector>
 
-#include "mspline/structure/topology/homotopy_basis.h"
 #include "mspline/structure/mesh/tri_mesh.h"
+#include "mspline/structure/topology/homotopy_basis.h"
 
 namespace mspline::structure {
 

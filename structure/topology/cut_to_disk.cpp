@@ -7,10 +7,10 @@
 #include <utility>
 #include <vector>
 
+#include "mspline/structure/core/errors.h"
 #include "mspline/structure/topology/canonical_schema.h"
 #include "mspline/structure/topology/cut_along_edges.h"
 #include "mspline/structure/topology/cut_graph.h"
-#include "mspline/structure/core/errors.h"
 #include "mspline/structure/topology/growing_surface.h"
 #include "mspline/structure/topology/homotopy_basis.h"
 #include "mspline/structure/topology/one_vertex_loops.h"

@@ -4,8 +4,8 @@
 #include <cstddef>
 #include <vector>
 
-#include "mspline/structure/topology/cut_along_edges.h"
 #include "mspline/structure/mesh/tri_mesh.h"
+#include "mspline/structure/topology/cut_along_edges.h"
 
 namespace mspline::structure {
 

@@ -106,8 +106,9 @@ TEST_CASE("fit: a scan with holes is filled for the fit and trimmed at export", 
 TEST_CASE("fit: an unreachable tolerance warns and still writes the best model", "[cli]") {
   const std::string dir = test::scratchDirectory("cli_fit_unreachable");
   const std::string model = dir + "/knot.msp";
-  const auto result = runCommand(cliPath() + " fit " + realMeshPath("knot1.off") + " -o " + model +
-                                 " --max-control 300 --tolerance 1e-6 --max-refinements 1 --rounds 1 --json");
+  const auto result =
+      runCommand(cliPath() + " fit " + realMeshPath("knot1.off") + " -o " + model +
+                 " --max-control 300 --tolerance 1e-6 --max-refinements 1 --rounds 1 --json");
   INFO(result.err);
   CHECK(result.exitCode == 0);
   CHECK(result.err.find("warning: the tolerance was not reached") != std::string::npos);

@@ -5,16 +5,16 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "mspline/structure/core/constants.h"
 #include "support/test_data.h"
 
 namespace fs = std::filesystem;
+using mspline::kPi;
 using mspline::test::cliPath;
 using mspline::test::realMeshPath;
 using mspline::test::runCommand;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 nlohmann::json flatten(const std::string& arguments, int expectedExit = 0) {
   auto result = runCommand(cliPath() + " flatten --json -q " + arguments);

@@ -79,7 +79,7 @@ TEST_CASE("spline: save, load and save again give the same bytes and values", "[
   std::mt19937 random(8);
   std::uniform_int_distribution<int> face(0, model.domain.faceCount() - 1);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<spline::DomainPoint> points;
+  std::vector<spline::SurfacePoint> points;
   for (int k = 0; k < 1000; ++k) {
     Eigen::Vector3d b(unit(random), unit(random), unit(random));
     points.push_back({face(random), b / b.sum()});

@@ -10,8 +10,8 @@
 #include <string>
 
 #include "mspline/io/detail/byte_order.h"
-#include "mspline/spline/tribspline/dms_spline.h"
 #include "mspline/spline/subd/subd_fit_space.h"
+#include "mspline/spline/tribspline/dms_spline.h"
 #include "mspline/spline/tspline/tspline.h"
 #include "mspline/structure/core/errors.h"
 #include "support/test_data.h"
@@ -485,11 +485,11 @@ TEST_CASE("spline_model_file: a T-spline's save, load and save again is lossless
 
   // The loaded spline evaluates to the same bits at every surface vertex and inside faces.
   const spline::TSplineSpace before(model.tmesh), after(back.tmesh);
-  std::vector<spline::TMeshPoint> points = model.surfaceVertexTMeshPoints;
+  std::vector<spline::FacePoint> points = model.surfaceVertexTMeshPoints;
   points.push_back({0, Eigen::Vector2d(0.5, 0.5)});
   points.push_back({17, Eigen::Vector2d(0.25, 0.75)});
   points.push_back({29, Eigen::Vector2d(0.9, 0.1)});
-  for (const spline::TMeshPoint& p : points) {
+  for (const spline::FacePoint& p : points) {
     INFO("face " << p.face << " at " << p.position.transpose());
     const auto x = before.evaluate(model.controlPoints, model.weights, p.face, p.position, 2);
     const auto y = after.evaluate(back.controlPoints, back.weights, p.face, p.position, 2);
@@ -690,8 +690,8 @@ TEST_CASE("spline_model_file: a subdivision surface's save, load and save again 
   CHECK(test::fileText(dir + "/b.msp") == bytes);
   // The loaded surface evaluates to the same bits.
   const spline::SubdSpace before(model.tmesh), after(back.tmesh);
-  for (const spline::TMeshPoint& p :
-       {spline::TMeshPoint{0, {0.5, 0.5}}, spline::TMeshPoint{17, {0.25, 0.75}}}) {
+  for (const spline::FacePoint& p :
+       {spline::FacePoint{0, {0.5, 0.5}}, spline::FacePoint{17, {0.25, 0.75}}}) {
     Eigen::Vector3d x, y, xs, ys;
     REQUIRE(before.evaluate(model.controlPoints, p.face, p.position, x, &xs));
     REQUIRE(after.evaluate(back.controlPoints, p.face, p.position, y, &ys));

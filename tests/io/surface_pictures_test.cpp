@@ -6,9 +6,9 @@
 #include <map>
 #include <tuple>
 
-#include "mspline/structure/ricci/curvature_target.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/layout/flat_layout.h"
+#include "mspline/structure/ricci/curvature_target.h"
 #include "mspline/structure/ricci/ricci_newton.h"
 #include "mspline/structure/ricci/vertex_scaling_energy.h"
 #include "support/test_data.h"

@@ -2,6 +2,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/intrinsic/intrinsic_flattening.h"
 #include "mspline/structure/ricci/ricci_newton.h"
 #include "support/test_meshes.h"
@@ -9,7 +10,6 @@
 namespace mspline::test {
 
 FlatMetric flatMetric(const structure::TriMesh& mesh, const std::vector<structure::Cone>& cones) {
-  constexpr double kPi = 3.14159265358979323846;
   const auto target = structure::flatTarget(mesh, cones);
   structure::RicciNewtonOptions options;
   options.tolerance = 1e-12 / (2 * kPi);
@@ -22,7 +22,7 @@ FlatMetric flatMetric(const structure::TriMesh& mesh, const std::vector<structur
 
 FlatMetric eightConeSphere() {
   std::vector<structure::Cone> cones;
-  for (int v : {3, 40, 97, 151, 230, 333, 407, 560}) cones.push_back({v, M_PI / 2.0});
+  for (int v : {3, 40, 97, 151, 230, 333, 407, 560}) cones.push_back({v, kPi / 2.0});
   return flatMetric(icosphere(3), cones);
 }
 

@@ -5,8 +5,8 @@
 
 #include <Eigen/Core>
 
-#include "mspline/structure/ricci/curvature_target.h"
 #include "mspline/structure/mesh/tri_mesh.h"
+#include "mspline/structure/ricci/curvature_target.h"
 
 namespace mspline::test {
 

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/mesh/subdivide.h"
 
@@ -15,8 +16,6 @@ namespace {
 
 using Point = TriMesh::Point;
 using VH = TriMesh::VertexHandle;
-
-constexpr double kPi = 3.14159265358979323846;
 
 void requireAtLeast(int value, int minimum, const char* what) {
   if (value < minimum)

@@ -4,9 +4,9 @@
 #include <vector>
 
 #include "mspline/spline/tribspline/spline_domain.h"
-#include "mspline/structure/ricci/curvature_target.h"
 #include "mspline/structure/mesh/polygon_soup.h"
 #include "mspline/structure/mesh/tri_mesh.h"
+#include "mspline/structure/ricci/curvature_target.h"
 
 namespace mspline::test {
 

@@ -19,8 +19,8 @@
 #include "mspline/io/read_mesh.h"
 #include "mspline/io/spline_model_file.h"
 #include "mspline/spline/model/model_surface.h"
-#include "support/test_data.h"
 #include "mspline/viewer/controller.h"
+#include "support/test_data.h"
 
 using namespace mspline;
 

@@ -11,6 +11,7 @@
 #include "mspline/spline/tribspline/tri_bspline_fit_space.h"
 #include "mspline/spline/tspline/tspline.h"
 #include "mspline/spline/tspline/tspline_fit_space.h"
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
 #include "support/test_meshes.h"
 #include "support/test_tmeshes.h"
@@ -21,14 +22,14 @@ namespace {
 
 // A torus of radii 3 and 1 over a periodic n x m grid of unit cells (the T-spline's parameters).
 Eigen::Vector3d torusPoint(double s, double t, int n, int m) {
-  const double a = 2.0 * M_PI * s / n, b = 2.0 * M_PI * t / m;
+  const double a = 2.0 * kPi * s / n, b = 2.0 * kPi * t / m;
   return {(3.0 + std::cos(b)) * std::cos(a), (3.0 + std::cos(b)) * std::sin(a), std::sin(b)};
 }
 
 struct TorusCase {
   spline::TSplineSpace space;
   Eigen::VectorXd weights;
-  std::vector<spline::FitParameter> parameters;
+  std::vector<spline::FacePoint> parameters;
   Eigen::MatrixX3d targets;
 };
 
@@ -64,7 +65,7 @@ TEST_CASE("surface_fit: a spline of the space is reproduced from its samples", "
   const Eigen::MatrixXd control = test::randomPoints(space.numBasis(), 3u);
   std::mt19937 random(2);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<spline::FitParameter> parameters;
+  std::vector<spline::FacePoint> parameters;
   Eigen::MatrixX3d targets(10 * space.numBasis(), 3);
   for (Eigen::Index k = 0; k < targets.rows(); ++k) {
     const int f = int(random() % std::size_t(space.mesh().numFaces()));
@@ -124,7 +125,7 @@ TEST_CASE("surface_fit: projection finds the closest point, across faces", "[spl
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   int crossed = 0;
   for (int k = 0; k < 200; ++k) {
-    const spline::FitParameter on{int(random() % 96u), Eigen::Vector2d(unit(random), unit(random))};
+    const spline::FacePoint on{int(random() % 96u), Eigen::Vector2d(unit(random), unit(random))};
     std::vector<spline::FitBasisTerm> terms;
     fitSpace.basisAt(on, terms, 1);
     Eigen::Vector3d point = Eigen::Vector3d::Zero(), ds = point, dt = point;
@@ -135,7 +136,7 @@ TEST_CASE("surface_fit: projection finds the closest point, across faces", "[spl
     }
     const Eigen::Vector3d normal = ds.cross(dt).normalized();
     const Eigen::Vector3d target = point + 0.05 * normal;
-    const spline::FitParameter start = fitSpace.walk(on, Eigen::Vector2d(1.5, -1.0));
+    const spline::FacePoint start = fitSpace.walk(on, Eigen::Vector2d(1.5, -1.0));
     crossed += start.face != on.face;
     const spline::SurfaceProjection projection =
         spline::projectOntoSurface(fitSpace, fit.controlPoints, start, target, 30);
@@ -179,7 +180,7 @@ TEST_CASE("surface_fit: one solve at the samples' parameters recovers a triangul
   std::uniform_int_distribution<int> face(0, domain.faceCount() - 1);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const Eigen::MatrixXd truth = test::randomPoints(space.numBasis(), 7u);
-  std::vector<spline::FitParameter> parameters;
+  std::vector<spline::FacePoint> parameters;
   Eigen::MatrixX3d targets(4000, 3);
   for (Eigen::Index s = 0; s < targets.rows(); ++s) {
     Eigen::Vector3d b(unit(random), unit(random), unit(random));
@@ -212,7 +213,7 @@ TEST_CASE("surface_fit: functions without samples take the samples' mean", "[spl
   const spline::TSplineFitSpace fitSpace(space, weights);
   std::mt19937 random(8);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<spline::FitParameter> parameters;
+  std::vector<spline::FacePoint> parameters;
   Eigen::MatrixX3d targets(300, 3);
   for (Eigen::Index k = 0; k < targets.rows(); ++k) {
     const int f = int(random() % 6u) * 6 + int(random() % 2u);

@@ -319,7 +319,7 @@ TEST_CASE("model_surface: sample points, cones and means of the tessellations", 
     for (std::int64_t v : t.coneVertices)
       for (auto k = t.sampleOffsets[std::size_t(v)]; k < t.sampleOffsets[std::size_t(v) + 1]; ++k) {
         ++points;
-        const spline::FitParameter& p = t.samplePoints[std::size_t(k)];
+        const spline::FacePoint& p = t.samplePoints[std::size_t(k)];
         const Eigen::Vector3d b = spline::toDomainPoint(space, p).barycentric;
         int corner = 0;
         b.maxCoeff(&corner);

@@ -7,9 +7,10 @@
 
 #include <Eigen/Geometry>
 
+#include "mspline/spline/core/uniform_bspline.h"
 #include "mspline/spline/subd/catmull_clark_limit.h"
 #include "mspline/spline/subd/triangle_quad_split.h"
-#include "mspline/spline/core/uniform_bspline.h"
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
 #include "support/test_meshes.h"
 
@@ -51,7 +52,7 @@ Net randomTorus(int n, int m, unsigned seed) {
   std::uniform_real_distribution<double> noise(-0.05, 0.05);
   Net net;
   net.points.resize(n * m, 3);
-  const double pi = 3.14159265358979323846;
+  const double pi = kPi;
   for (int j = 0; j < m; ++j)
     for (int i = 0; i < n; ++i) {
       const double a = 2 * pi * i / n, b = 2 * pi * j / m, r = 1.0 + 0.4 * std::cos(b);

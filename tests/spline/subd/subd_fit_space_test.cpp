@@ -8,9 +8,9 @@
 #include "mspline/spline/subd/catmull_clark_limit.h"
 #include "mspline/spline/subd/subd_fit_space.h"
 #include "mspline/spline/subd/subd_tessellate.h"
+#include "mspline/spline/subd/tspline_osd.h"
 #include "mspline/spline/tspline/tmesh.h"
 #include "mspline/spline/tspline/tspline.h"
-#include "mspline/spline/subd/tspline_osd.h"
 #include "mspline/spline/tspline/tspline_tessellate.h"
 #include "mspline/structure/core/errors.h"
 #include "support/test_tmeshes.h"
@@ -176,7 +176,7 @@ TEST_CASE("subd_fit_space: the fit space's quadrature integrates the faces' area
   const TMesh mesh = spline::gridTMesh({0, 1, 3, 4}, {0, 2, 2.5});
   const SubdSpace subd(mesh);
   const spline::SubdFitSpace space(subd);
-  std::vector<spline::FitParameter> nodes;
+  std::vector<spline::FacePoint> nodes;
   std::vector<double> weights;
   space.quadrature(nodes, weights);
   REQUIRE(nodes.size() == 16 * std::size_t(mesh.numFaces()));
@@ -196,7 +196,7 @@ TEST_CASE("subd_fit_space: the fit space's quadrature integrates the faces' area
   std::vector<FitBasisTerm> terms;
   space.basisAt({0, {0.0, 0.0}}, terms, 1);
   CHECK(std::abs(sums(terms)[0] - 1.0) < 1e-12);
-  const spline::FitParameter end = space.walk({0, {0.5, 0.5}}, {-3.0, 0.0});
+  const spline::FacePoint end = space.walk({0, {0.5, 0.5}}, {-3.0, 0.0});
   CHECK(end.face == 0);
   CHECK((end.position - Eigen::Vector2d(0.0, 0.5)).norm() < 1e-12);
 }

@@ -5,10 +5,11 @@
 #include <vector>
 
 #include "mspline/spline/subd/catmull_clark_limit.h"
+#include "mspline/spline/subd/tspline_osd.h"
 #include "mspline/spline/tspline/tmesh.h"
 #include "mspline/spline/tspline/tspline.h"
 #include "mspline/spline/tspline/tspline_bezier.h"
-#include "mspline/spline/subd/tspline_osd.h"
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
 #include "support/test_tmeshes.h"
 
@@ -22,8 +23,6 @@ using test::CubeTMesh;
 using test::randomPoints;
 
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 std::vector<double> knotLines(int count, double spacing = 1.0) {
   std::vector<double> knots;

@@ -9,6 +9,7 @@
 #include <Eigen/Dense>
 
 #include "mspline/spline/tribspline/simplex_spline.h"
+#include "mspline/structure/core/constants.h"
 
 using namespace mspline;
 using Eigen::Vector2d;
@@ -17,7 +18,6 @@ using Knots = std::vector<Vector2d>;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 __extension__ typedef __int128 Int128;
 
 double cross(const Vector2d& u, const Vector2d& v) {

@@ -12,10 +12,10 @@
 #include "support/test_meshes.h"
 
 using namespace mspline;
-using spline::DomainPoint;
+using spline::FacePoint;
 using spline::FitBasisTerm;
-using spline::FitParameter;
 using spline::SplineDomain;
+using spline::SurfacePoint;
 using spline::TriBSplineFitSpace;
 using spline::TriBSplineSpace;
 
@@ -34,7 +34,7 @@ std::vector<SplineDomain> domains() {
 }
 
 // A random point of a random face, each barycentric coordinate at least `margin`.
-FitParameter randomParameter(const TriBSplineSpace& space, std::mt19937& random, double margin) {
+FacePoint randomParameter(const TriBSplineSpace& space, std::mt19937& random, double margin) {
   const SplineDomain& domain = space.domain();
   std::uniform_int_distribution<int> face(0, domain.faceCount() - 1);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -53,7 +53,7 @@ Eigen::MatrixXd randomControl(int count, std::mt19937& random) {
 
 // The surface of `control` at p (position, and d/ds, d/dt as columns 1, 2).
 Eigen::Matrix3d surfaceAt(const TriBSplineFitSpace& space, const Eigen::MatrixXd& control,
-                          const FitParameter& p) {
+                          const FacePoint& p) {
   std::vector<FitBasisTerm> terms;
   space.basisAt(p, terms, 1);
   REQUIRE(!terms.empty());
@@ -67,7 +67,7 @@ Eigen::Matrix3d surfaceAt(const TriBSplineFitSpace& space, const Eigen::MatrixXd
   return result;
 }
 
-std::map<int, FitBasisTerm> termsAt(const TriBSplineFitSpace& space, const FitParameter& p) {
+std::map<int, FitBasisTerm> termsAt(const TriBSplineFitSpace& space, const FacePoint& p) {
   std::vector<FitBasisTerm> terms;
   space.basisAt(p, terms, 2);
   std::map<int, FitBasisTerm> byIndex;
@@ -82,18 +82,18 @@ TEST_CASE("tri_bspline_fit_space: domain points and fit parameters convert both 
   const TriBSplineSpace tri = makeSpace(domain, 2);
   std::mt19937 random(3);
   for (int s = 0; s < 50; ++s) {
-    const FitParameter p = randomParameter(tri, random, 0.0);
-    const DomainPoint point = spline::toDomainPoint(tri, p);
+    const FacePoint p = randomParameter(tri, random, 0.0);
+    const SurfacePoint point = spline::toDomainPoint(tri, p);
     CHECK(point.barycentric.sum() == Approx(1.0).epsilon(1e-14));
     CHECK(point.barycentric.minCoeff() >= -1e-14);
-    const FitParameter back = spline::toFitParameter(tri, point);
+    const FacePoint back = spline::toFitParameter(tri, point);
     CHECK(back.face == p.face);
     CHECK((back.position - p.position).norm() <= 1e-14);
   }
   // The corners land on canonicalCorners.
   const auto corners = spline::canonicalCorners(domain, 5);
   for (int k = 0; k < 3; ++k) {
-    const DomainPoint point{5, Eigen::Vector3d::Unit(k)};
+    const SurfacePoint point{5, Eigen::Vector3d::Unit(k)};
     CHECK((spline::toFitParameter(tri, point).position - corners[std::size_t(k)]).norm() <= 1e-15);
   }
 }
@@ -106,7 +106,7 @@ TEST_CASE("tri_bspline_fit_space: a partition of unity with derivatives that mat
     CHECK(space.numBasis() == tri.numBasis());
     std::mt19937 random(5);
     // Off the sides by more than h: the offset points stay in the face (walks inside a face).
-    std::vector<FitParameter> points;
+    std::vector<FacePoint> points;
     for (int s = 0; s < 150; ++s) points.push_back(randomParameter(tri, random, 0.02));
     // And in every corner at a cone, inside its faces' own clouds, where the rational
     // normalization bends the functions.
@@ -121,7 +121,7 @@ TEST_CASE("tri_bspline_fit_space: a partition of unity with derivatives that mat
     double unity = 0.0, slopeSum = 0.0, curvatureSum = 0.0, slopeError = 0.0, curvatureError = 0.0;
     double nearConeSlopeError = 0.0, nearConeCurvatureError = 0.0, minDenominator = 1.0;
     for (std::size_t s = 0; s < points.size(); ++s) {
-      const FitParameter& p = points[s];
+      const FacePoint& p = points[s];
       const bool nearCone = s >= 150;
       // Near a cone the functions vary on the cone clouds' scale: a smaller difference step.
       const double h = nearCone ? 2e-8 : 2e-6;
@@ -148,7 +148,7 @@ TEST_CASE("tri_bspline_fit_space: a partition of unity with derivatives that mat
           std::max(curvatureSum, derivativeSum.tail<3>().cwiseAbs().maxCoeff() / curvatureScale);
       for (int axis = 0; axis < 2; ++axis) {
         const Eigen::Vector2d step = h * Eigen::Vector2d::Unit(axis);
-        const FitParameter plus = space.walk(p, step), minus = space.walk(p, -step);
+        const FacePoint plus = space.walk(p, step), minus = space.walk(p, -step);
         REQUIRE(plus.face == p.face);
         REQUIRE(minus.face == p.face);
         CHECK((plus.position - p.position - step).norm() <= 1e-15);
@@ -196,25 +196,25 @@ TEST_CASE("tri_bspline_fit_space: walks across sides are reversible and continuo
     int faceChanges = 0;
     double backError = 0.0, pieceError = 0.0, sideJump = 0.0;
     for (int s = 0; s < 30; ++s) {
-      const FitParameter p = randomParameter(tri, random, 0.0);
+      const FacePoint p = randomParameter(tri, random, 0.0);
       const double phi = angle(random);
       // About three cells long: several sides crossed.
       const Eigen::Vector2d step = 3.0 * Eigen::Vector2d(std::cos(phi), std::sin(phi));
       Eigen::Vector2d turned;
-      const FitParameter end = space.walk(p, step, turned);
+      const FacePoint end = space.walk(p, step, turned);
       CHECK(turned.norm() == Approx(step.norm()).epsilon(1e-12));
-      const FitParameter back = space.walk(end, -turned);
+      const FacePoint back = space.walk(end, -turned);
       backError =
           std::max(backError,
                    (surfaceAt(space, control, back) - surfaceAt(space, control, p)).col(0).norm());
       // The same walk in 200 pieces, each turned into the frame reached: the same end, and the
       // surface continuous where a piece crosses a side.
-      FitParameter at = p;
+      FacePoint at = p;
       Eigen::Vector2d piece = step / 200.0;
       Eigen::Matrix3d previous = surfaceAt(space, control, at);
       for (int k = 0; k < 200; ++k) {
         Eigen::Vector2d turnedPiece;
-        const FitParameter next = space.walk(at, piece, turnedPiece);
+        const FacePoint next = space.walk(at, piece, turnedPiece);
         faceChanges += next.face != at.face;
         if (next.face != at.face) {
           // Where the piece leaves the face, by bisection: the surface just before and just
@@ -254,11 +254,10 @@ TEST_CASE("tri_bspline_fit_space: a walk into a cone stops just before it", "[sp
       if (!domain.cone[std::size_t(domain.faces[std::size_t(f)][std::size_t(k)])]) continue;
       ++tried;
       const auto corners = spline::canonicalCorners(domain, f);
-      const FitParameter centre =
+      const FacePoint centre =
           spline::toFitParameter(tri, {f, Eigen::Vector3d::Constant(1.0 / 3.0)});
       // Aimed at the cone and twice as far: without the stop the walk would go past it.
-      const FitParameter end =
-          space.walk(centre, 2.0 * (corners[std::size_t(k)] - centre.position));
+      const FacePoint end = space.walk(centre, 2.0 * (corners[std::size_t(k)] - centre.position));
       CHECK(end.face == f);
       const double distance = (end.position - corners[std::size_t(k)]).norm();
       const double perimeter = domain.sideLengths[std::size_t(f)][0] +
@@ -275,7 +274,7 @@ TEST_CASE("tri_bspline_fit_space: the quadrature integrates quartics over the do
   for (const SplineDomain& domain : domains()) {
     const TriBSplineSpace tri = makeSpace(domain, 2);
     const TriBSplineFitSpace space(tri);
-    std::vector<FitParameter> nodes;
+    std::vector<FacePoint> nodes;
     std::vector<double> weights;
     space.quadrature(nodes, weights);
     REQUIRE(nodes.size() == weights.size());

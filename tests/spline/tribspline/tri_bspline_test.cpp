@@ -12,8 +12,8 @@
 #include "support/test_meshes.h"
 
 using namespace mspline;
-using spline::DomainPoint;
 using spline::SplineDomain;
+using spline::SurfacePoint;
 using spline::TriBSplineSpace;
 
 namespace {
@@ -25,7 +25,7 @@ TriBSplineSpace makeSpace(const SplineDomain& domain, int degree, std::uint64_t 
       domain, spline::placeKnotClouds(domain, spline::buildHomeCharts(domain), degree, options));
 }
 
-DomainPoint randomPoint(const SplineDomain& domain, std::mt19937& random) {
+SurfacePoint randomPoint(const SplineDomain& domain, std::mt19937& random) {
   std::uniform_int_distribution<int> face(0, domain.faceCount() - 1);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   Eigen::Vector3d b(unit(random), unit(random), unit(random));
@@ -34,14 +34,14 @@ DomainPoint randomPoint(const SplineDomain& domain, std::mt19937& random) {
 
 // The same point of side `side` of face f (parameter t from corner side to corner side+1), seen
 // from f and from the face across.
-std::pair<DomainPoint, DomainPoint> sidePoint(const SplineDomain& domain, int f, int side,
-                                              double t) {
-  DomainPoint here{f, Eigen::Vector3d::Zero()};
+std::pair<SurfacePoint, SurfacePoint> sidePoint(const SplineDomain& domain, int f, int side,
+                                                double t) {
+  SurfacePoint here{f, Eigen::Vector3d::Zero()};
   here.barycentric[side] = 1.0 - t;
   here.barycentric[(side + 1) % 3] = t;
   const int g = domain.neighbour[std::size_t(f)][std::size_t(side)];
   const int gs = domain.neighbourSide[std::size_t(f)][std::size_t(side)];
-  DomainPoint there{g, Eigen::Vector3d::Zero()};
+  SurfacePoint there{g, Eigen::Vector3d::Zero()};
   there.barycentric[gs] = t;
   there.barycentric[(gs + 1) % 3] = 1.0 - t;
   return {here, there};
@@ -76,7 +76,7 @@ Figures measure(const TriBSplineSpace& space, int samples) {
   Figures figures;
   spline::BasisValues basis;
   for (int s = 0; s < samples; ++s) {
-    const DomainPoint p = randomPoint(domain, random);
+    const SurfacePoint p = randomPoint(domain, random);
     double denominator = 0.0;
     space.basisAt(p, basis, 0, &denominator);
     double sum = 0.0;
@@ -163,14 +163,14 @@ TEST_CASE("tri_bspline: batch evaluation agrees with single points", "[spline]")
                                      spline::domainFromMesh(cube, structure::edgeLengths(cube))}) {
     const TriBSplineSpace space = makeSpace(domain, 3);
     std::mt19937 random(21);
-    std::vector<DomainPoint> points;
+    std::vector<SurfacePoint> points;
     for (int s = 0; s < 2000; ++s) points.push_back(randomPoint(domain, random));
     // On sides and close to corners too.
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     for (int f = 0; f < domain.faceCount(); ++f)
       for (int side = 0; side < 3; ++side) {
         points.push_back(sidePoint(domain, f, side, unit(random)).first);
-        DomainPoint corner{f, Eigen::Vector3d::Constant(0.005 + 0.01 * unit(random))};
+        SurfacePoint corner{f, Eigen::Vector3d::Constant(0.005 + 0.01 * unit(random))};
         corner.barycentric[side] = 1.0 - corner.barycentric.sum() + corner.barycentric[side];
         points.push_back(corner);
       }

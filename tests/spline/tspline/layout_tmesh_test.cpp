@@ -69,7 +69,7 @@ TEST_CASE("layout_tmesh: surface points land in their rectangle's cells", "[spli
     const int face = int(random() % flat.surface.n_faces());
     const double a = unit(random), b = unit(random) * (1.0 - a);
     const structure::RectanglePoint point = layout.locate(face, Eigen::Vector3d(1.0 - a - b, a, b));
-    const spline::TMeshPoint cell = spline::layoutPoint(layout, grid, point);
+    const spline::FacePoint cell = spline::layoutPoint(layout, grid, point);
     const int first = grid.firstCell[std::size_t(point.rectangle)];
     const auto [cellsX, cellsY] = grid.rectangleCells[std::size_t(point.rectangle)];
     CHECK(cell.face >= first);

@@ -35,7 +35,7 @@ TEST_CASE("torus_tmesh: the lattice grid of a flat torus is seamless", "[spline]
   for (const auto f : flat.surface.faces()) {
     int k = 0;
     for (const auto v : flat.surface.fv_range(f)) {
-      const spline::TMeshPoint point = torus.cornerPoints[std::size_t(3 * f.idx() + k++)];
+      const spline::FacePoint point = torus.cornerPoints[std::size_t(3 * f.idx() + k++)];
       const Eigen::Vector2d g(point.face % n + point.position.x(),
                               point.face / n + point.position.y());
       Eigen::Vector2d& seen = gridOf[std::size_t(v.idx())];
@@ -58,8 +58,8 @@ TEST_CASE("torus_tmesh: grid points wrap around both periods", "[spline]") {
   const spline::TorusTMesh torus =
       spline::torusTMesh(structure::layoutFlatMetric(flat.surface, flat.lengths));
   const int n = torus.cellsAlongFirst, m = torus.cellsAlongSecond;
-  const spline::TMeshPoint a = spline::gridPoint(torus, {0.25, 1.5});
-  const spline::TMeshPoint b = spline::gridPoint(torus, {0.25 + 3 * n, 1.5 - 2 * m});
+  const spline::FacePoint a = spline::gridPoint(torus, {0.25, 1.5});
+  const spline::FacePoint b = spline::gridPoint(torus, {0.25 + 3 * n, 1.5 - 2 * m});
   CHECK(a.face == b.face);
   CHECK((a.position - b.position).norm() < 1e-12);
   CHECK(a.face == n + 0);

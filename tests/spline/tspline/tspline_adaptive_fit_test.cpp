@@ -6,6 +6,7 @@
 
 #include "mspline/spline/tspline/tspline.h"
 #include "mspline/spline/tspline/tspline_adaptive_fit.h"
+#include "mspline/structure/core/constants.h"
 #include "support/test_tmeshes.h"
 
 using namespace mspline;
@@ -21,14 +22,14 @@ TEST_CASE("tspline_adaptive_fit: refines where a bump is and reaches the toleran
   };
   std::mt19937 random(7);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<spline::TMeshPoint> parameters;
+  std::vector<spline::FacePoint> parameters;
   Eigen::MatrixX3d targets(40 * n * n, 3);
   for (Eigen::Index k = 0; k < targets.rows(); ++k) {
     const double x = n * unit(random), y = n * unit(random);
     const int i = std::min(n - 1, int(x)), j = std::min(n - 1, int(y));
     parameters.push_back({j * n + i, Eigen::Vector2d(x - i, y - j)});
     // Periodic in x and y: a torus-like embedding keeps the surface closed.
-    const double a = 2.0 * M_PI * x / n, b = 2.0 * M_PI * y / n;
+    const double a = 2.0 * kPi * x / n, b = 2.0 * kPi * y / n;
     const double lift = height(x, y);
     targets.row(k) << (4.0 + std::cos(b)) * std::cos(a), (4.0 + std::cos(b)) * std::sin(a),
         std::sin(b) + lift;

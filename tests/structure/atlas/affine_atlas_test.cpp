@@ -8,9 +8,9 @@
 
 #include "mspline/structure/atlas/affine_atlas.h"
 #include "mspline/structure/core/constants.h"
+#include "mspline/structure/layout/flat_layout.h"
 #include "mspline/structure/ricci/cone_placement.h"
 #include "mspline/structure/ricci/curvature_target.h"
-#include "mspline/structure/layout/flat_layout.h"
 #include "mspline/structure/ricci/holonomy_quantization.h"
 #include "mspline/structure/topology/homotopy_basis.h"
 #include "support/flat_metric.h"

@@ -4,9 +4,9 @@
 #include <random>
 #include <string>
 
-#include "mspline/structure/mesh/cotan_laplacian.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/core/index_map.h"
+#include "mspline/structure/mesh/cotan_laplacian.h"
 #include "support/test_meshes.h"
 
 using namespace mspline;

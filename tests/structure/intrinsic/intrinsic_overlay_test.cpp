@@ -4,13 +4,13 @@
 #include <random>
 
 #include "mspline/structure/core/constants.h"
-#include "mspline/structure/ricci/cone_placement.h"
-#include "mspline/structure/ricci/curvature_target.h"
-#include "mspline/structure/layout/flat_layout.h"
 #include "mspline/structure/intrinsic/intrinsic_overlay.h"
 #include "mspline/structure/intrinsic/ricci_flips.h"
-#include "mspline/structure/topology/topology.h"
+#include "mspline/structure/layout/flat_layout.h"
+#include "mspline/structure/ricci/cone_placement.h"
+#include "mspline/structure/ricci/curvature_target.h"
 #include "mspline/structure/ricci/vertex_scaling_energy.h"
+#include "mspline/structure/topology/topology.h"
 #include "support/test_data.h"
 #include "support/test_meshes.h"
 

@@ -3,12 +3,12 @@
 #include <cmath>
 
 #include "mspline/structure/core/constants.h"
+#include "mspline/structure/intrinsic/ricci_flips.h"
 #include "mspline/structure/ricci/cone_placement.h"
 #include "mspline/structure/ricci/curvature_target.h"
-#include "mspline/structure/intrinsic/ricci_flips.h"
 #include "mspline/structure/ricci/ricci_newton.h"
-#include "mspline/structure/topology/topology.h"
 #include "mspline/structure/ricci/vertex_scaling_energy.h"
+#include "mspline/structure/topology/topology.h"
 #include "support/test_data.h"
 #include "support/test_meshes.h"
 

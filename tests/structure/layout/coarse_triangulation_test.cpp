@@ -9,13 +9,13 @@
 #include <Eigen/Dense>
 
 #include "mspline/structure/core/constants.h"
+#include "mspline/structure/core/errors.h"
+#include "mspline/structure/core/surface_point.h"
 #include "mspline/structure/layout/coarse_triangulation.h"
 #include "mspline/structure/ricci/cone_placement.h"
 #include "mspline/structure/ricci/curvature_target.h"
-#include "mspline/structure/core/errors.h"
-#include "mspline/structure/core/surface_point.h"
-#include "mspline/structure/topology/topology.h"
 #include "mspline/structure/ricci/vertex_scaling_energy.h"
+#include "mspline/structure/topology/topology.h"
 #include "support/flat_metric.h"
 #include "support/test_data.h"
 #include "support/test_meshes.h"
@@ -65,7 +65,7 @@ FineTriangle layOutFineFace(const Flat& flat, int f) {
 
 // The fine vertex's distance from `origin` along the straight segment closest in length to
 // `expected` (infinite when none is found within twice that).
-double distanceOnCoarse(const CoarseTriangulation& coarse, const structure::SurfaceLocation& origin,
+double distanceOnCoarse(const CoarseTriangulation& coarse, const structure::SurfacePoint& origin,
                         int fineVertex, double expected) {
   const auto development = structure::developFromPoint(coarse, origin, 2.0 * expected);
   double best = std::numeric_limits<double>::infinity();

@@ -7,12 +7,12 @@
 
 #include <Eigen/Dense>
 
-#include "mspline/structure/ricci/curvature_target.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/layout/flat_layout.h"
 #include "mspline/structure/layout/flat_torus_voronoi.h"
-#include "mspline/structure/ricci/ricci_newton.h"
 #include "mspline/structure/picture/torus_voronoi_svg.h"
+#include "mspline/structure/ricci/curvature_target.h"
+#include "mspline/structure/ricci/ricci_newton.h"
 #include "mspline/structure/ricci/vertex_scaling_energy.h"
 #include "support/test_data.h"
 #include "support/test_meshes.h"

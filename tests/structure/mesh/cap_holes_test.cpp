@@ -9,11 +9,11 @@
 #include <vector>
 
 #include "mspline/structure/core/constants.h"
-#include "mspline/structure/mesh/cap_holes.h"
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/mesh/cap_holes.h"
 #include "mspline/structure/mesh/polygon_soup.h"
-#include "mspline/structure/topology/topology.h"
 #include "mspline/structure/mesh/validate.h"
+#include "mspline/structure/topology/topology.h"
 #include "support/test_data.h"
 #include "support/test_meshes.h"
 

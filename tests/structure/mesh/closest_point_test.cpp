@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <random>
 
-#include "mspline/structure/mesh/closest_point.h"
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/mesh/closest_point.h"
 #include "support/test_data.h"
 
 using namespace mspline;

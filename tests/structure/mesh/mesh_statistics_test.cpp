@@ -1,5 +1,5 @@
-#include "mspline/structure/core/constants.h"
 #include "mspline/structure/mesh/mesh_statistics.h"
+#include "mspline/structure/core/constants.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>

@@ -5,10 +5,10 @@
 
 #include "mspline/structure/atlas/affine_atlas.h"
 #include "mspline/structure/core/constants.h"
-#include "mspline/structure/ricci/cone_placement.h"
-#include "mspline/structure/ricci/curvature_target.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/layout/flat_layout.h"
+#include "mspline/structure/ricci/cone_placement.h"
+#include "mspline/structure/ricci/curvature_target.h"
 #include "mspline/structure/ricci/holonomy_quantization.h"
 #include "mspline/structure/ricci/ricci_newton.h"
 #include "mspline/structure/ricci/vertex_scaling_energy.h"

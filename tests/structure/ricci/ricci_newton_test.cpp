@@ -3,11 +3,11 @@
 #include <cmath>
 
 #include "mspline/structure/core/constants.h"
-#include "mspline/structure/ricci/curvature_target.h"
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/ricci/curvature_target.h"
 #include "mspline/structure/ricci/ricci_newton.h"
-#include "mspline/structure/topology/topology.h"
 #include "mspline/structure/ricci/vertex_scaling_energy.h"
+#include "mspline/structure/topology/topology.h"
 #include "support/test_data.h"
 #include "support/test_meshes.h"
 

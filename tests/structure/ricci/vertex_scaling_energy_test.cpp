@@ -4,8 +4,8 @@
 #include <random>
 
 #include "mspline/structure/core/constants.h"
-#include "mspline/structure/topology/topology.h"
 #include "mspline/structure/ricci/vertex_scaling_energy.h"
+#include "mspline/structure/topology/topology.h"
 #include "support/test_data.h"
 #include "support/test_meshes.h"
 

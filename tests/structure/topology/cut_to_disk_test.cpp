@@ -4,9 +4,9 @@
 #include <sstream>
 
 #include "mspline/io/load_mesh.h"
-#include "mspline/structure/topology/cut_to_disk.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/mesh/polygon_soup.h"
+#include "mspline/structure/topology/cut_to_disk.h"
 #include "mspline/structure/topology/topology.h"
 #include "support/test_data.h"
 #include "support/test_meshes.h"

@@ -4,8 +4,8 @@
 #include "mspline/io/load_mesh.h"
 #include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
-#include "mspline/structure/topology/homotopy_basis.h"
 #include "mspline/structure/mesh/polygon_soup.h"
+#include "mspline/structure/topology/homotopy_basis.h"
 #include "support/test_data.h"
 #include "support/test_meshes.h"
 
