@@ -33,9 +33,9 @@ void addRepairFlags(CLI::App& sub, structure::RepairOptions& options) {
       "--all",
       [&options] {
         options.mergeDuplicateVertices = options.removeDegenerateFaces =
-            options.removeDuplicateFaces = options.splitNonManifoldVertices =
-                options.orientConsistently = options.keepLargestComponent =
-                    options.dropUnreferencedVertices = true;
+            options.removeDuplicateFaces = options.splitNonManifoldEdges =
+                options.splitNonManifoldVertices = options.orientConsistently =
+                    options.keepLargestComponent = options.dropUnreferencedVertices = true;
       },
       "Run every repair below");
   sub.add_flag("--merge-duplicate-vertices", options.mergeDuplicateVertices,
@@ -44,6 +44,9 @@ void addRepairFlags(CLI::App& sub, structure::RepairOptions& options) {
                "Remove zero-area faces and faces with repeated vertices");
   sub.add_flag("--remove-duplicate-faces", options.removeDuplicateFaces,
                "Remove faces over the same vertices as an earlier face");
+  sub.add_flag("--split-non-manifold-edges", options.splitNonManifoldEdges,
+               "Give each consistently oriented pair of faces at an edge shared by 3 or more "
+               "faces its own copy of the edge; other faces there get a boundary");
   sub.add_flag("--split-non-manifold-vertices", options.splitNonManifoldVertices,
                "Give every fan of faces at a bow-tie vertex its own vertex");
   sub.add_flag("--orient", options.orientConsistently,

@@ -12,8 +12,8 @@ namespace {
 
 bool anyRepairRequested(const structure::RepairOptions& r) {
   return r.mergeDuplicateVertices || r.removeDegenerateFaces || r.removeDuplicateFaces ||
-         r.splitNonManifoldVertices || r.orientConsistently || r.keepLargestComponent ||
-         r.dropUnreferencedVertices;
+         r.splitNonManifoldEdges || r.splitNonManifoldVertices || r.orientConsistently ||
+         r.keepLargestComponent || r.dropUnreferencedVertices;
 }
 
 // Problems after which OpenMesh cannot represent the faces; the others (several components,

@@ -8,6 +8,7 @@
 #include <numeric>
 
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/mesh/split_non_manifold_edges.h"
 #include "mspline/structure/mesh/validate.h"
 
 namespace mspline::structure {
@@ -99,6 +100,22 @@ RepairAction removeDuplicateFaces(PolygonSoup& soup) {
   return {"remove_duplicate_faces", removed,
           soup.sourceName + ": removed " + countOf(removed, "duplicate face", "duplicate faces") +
               " (same vertices as an earlier face)"};
+}
+
+RepairAction splitEdges(PolygonSoup& soup) {
+  SplitNonManifoldEdgesResult split = splitNonManifoldEdges(std::move(soup));
+  soup = std::move(split.soup);
+  std::string message =
+      soup.sourceName + ": split " +
+      countOf(split.edgesSplit, "non-manifold edge", "non-manifold edges") +
+      " (shared by 3 or more faces), keeping " +
+      countOf(split.pairsKept, "consistently oriented pair", "consistently oriented pairs") +
+      " of faces glued, leaving " + countOf(split.facesDetached, "face", "faces") +
+      " with a boundary there and adding " + countOf(split.verticesAdded, "vertex", "vertices");
+  if (split.edgesFullyDetached > 0)
+    message += "; at " + countOf(split.edgesFullyDetached, "edge", "edges") +
+               " the pairs met again around both ends, so all faces there were detached";
+  return {"split_non_manifold_edges", split.edgesSplit, message};
 }
 
 RepairAction splitNonManifoldVertices(PolygonSoup& soup) {
@@ -222,6 +239,7 @@ RepairResult repair(PolygonSoup soup, const RepairOptions& options) {
   if (options.removeDegenerateFaces)
     result.actions.push_back(removeDegenerateFaces(soup, options.degenerateTolerance));
   if (options.removeDuplicateFaces) result.actions.push_back(removeDuplicateFaces(soup));
+  if (options.splitNonManifoldEdges) result.actions.push_back(splitEdges(soup));
   if (options.splitNonManifoldVertices) result.actions.push_back(splitNonManifoldVertices(soup));
   if (options.orientConsistently) result.actions.push_back(orientConsistently(soup));
   if (options.keepLargestComponent) result.actions.push_back(keepLargestComponent(soup));

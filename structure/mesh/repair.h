@@ -16,6 +16,9 @@ struct RepairOptions {
   bool removeDegenerateFaces = false;
   /// Remove faces that use the same vertex set as an earlier face.
   bool removeDuplicateFaces = false;
+  /// Split edges shared by 3 or more faces so that each consistently oriented pair of faces keeps
+  /// a copy of its own and every other face gets a boundary there (splitNonManifoldEdges).
+  bool splitNonManifoldEdges = false;
   /// Split vertices whose faces form several fans (bow-ties) into one vertex per fan.
   bool splitNonManifoldVertices = false;
   /// Flip faces so that each patch of faces connected through manifold edges agrees with its

@@ -57,8 +57,8 @@ bool uvsMatchPositions(const PolygonSoup& soup) {
 TEST_CASE("repair: every requested repair is reported, in order, also when idle", "[structure]") {
   RepairOptions all;
   all.mergeDuplicateVertices = all.removeDegenerateFaces = all.removeDuplicateFaces = true;
-  all.splitNonManifoldVertices = all.orientConsistently = all.keepLargestComponent = true;
-  all.dropUnreferencedVertices = true;
+  all.splitNonManifoldEdges = all.splitNonManifoldVertices = all.orientConsistently = true;
+  all.keepLargestComponent = all.dropUnreferencedVertices = true;
   const RepairResult result = repair(test::tetrahedronSoup(), all);
   std::vector<std::string> names;
   for (const auto& action : result.actions) {
@@ -67,9 +67,9 @@ TEST_CASE("repair: every requested repair is reported, in order, also when idle"
     CHECK(action.message.rfind("tet.off: ", 0) == 0);
   }
   CHECK(names == std::vector<std::string>{"merge_duplicate_vertices", "remove_degenerate_faces",
-                                          "remove_duplicate_faces", "split_non_manifold_vertices",
-                                          "orient_consistently", "keep_largest_component",
-                                          "drop_unreferenced_vertices"});
+                                          "remove_duplicate_faces", "split_non_manifold_edges",
+                                          "split_non_manifold_vertices", "orient_consistently",
+                                          "keep_largest_component", "drop_unreferenced_vertices"});
   CHECK(result.soup.faces == test::tetrahedronSoup().faces);
   CHECK(result.soup.positions == test::tetrahedronSoup().positions);
 
@@ -258,15 +258,15 @@ TEST_CASE("repair: all repairs together turn a defective soup into a clean mesh"
 
   RepairOptions all;
   all.mergeDuplicateVertices = all.removeDegenerateFaces = all.removeDuplicateFaces = true;
-  all.splitNonManifoldVertices = all.orientConsistently = all.keepLargestComponent = true;
-  all.dropUnreferencedVertices = true;
+  all.splitNonManifoldEdges = all.splitNonManifoldVertices = all.orientConsistently = true;
+  all.keepLargestComponent = all.dropUnreferencedVertices = true;
   const auto result = repair(s, all);
   std::vector<std::size_t> counts;
   for (const auto& action : result.actions) counts.push_back(action.count);
-  // 24 corner copies collapse to 6 vertices; 1 degenerate and 1 duplicate face; the wing's
-  // vertex is split off; faces 2 and 5 are flipped back; the wing is removed; 3 vertices
-  // (the wing's two and its split copy) and the stray vertex are dropped.
-  CHECK(counts == std::vector<std::size_t>{18, 1, 1, 1, 2, 1, 4});
+  // 24 corner copies collapse to 6 vertices; 1 degenerate and 1 duplicate face; no edge is
+  // shared by 3 faces; the wing's vertex is split off; faces 2 and 5 are flipped back; the wing
+  // is removed; 3 vertices (the wing's two and its split copy) and the stray vertex are dropped.
+  CHECK(counts == std::vector<std::size_t>{18, 1, 1, 0, 1, 2, 1, 4});
   const auto after = validate(result.soup);
   INFO(after.summary());
   CHECK(after.ok());
