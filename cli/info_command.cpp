@@ -1,10 +1,12 @@
 // mspline info: topology, geometry and every validation problem of a mesh file.
 #include <cstdio>
 #include <iostream>
+#include <optional>
 
 #include "cli/command.h"
 #include "cli/mesh_report.h"
 #include "mspline/io/load_mesh.h"
+#include "mspline/structure/core/errors.h"
 #include "mspline/structure/mesh/mesh_statistics.h"
 #include "mspline/structure/topology/topology.h"
 
@@ -17,38 +19,41 @@ struct InfoArguments {
   structure::RepairOptions repair;
 };
 
+// The kinds of the problems that make the Euler characteristic and the genus unknown.
+std::vector<std::string> topologyHiddenBy(const structure::ValidationReport& validation) {
+  std::vector<std::string> kinds;
+  for (const auto& problem : validation.problems)
+    if (structure::hidesTopology(problem.kind)) kinds.push_back(problem.kind);
+  return kinds;
+}
+
 Json infoJson(const std::string& path, const io::LoadedMesh& loaded) {
   const auto& validation = loaded.validation;
+  const std::vector<std::string> hiddenBy = topologyHiddenBy(validation);
   Json info;
   info["file"] = path;
   info["valid"] = validation.ok();
+  // The soup's counts; on a mesh they equal the mesh's (components: faces connected through
+  // shared vertices, so that an unreferenced vertex is not a component of its own).
+  info["vertices"] = validation.vertices;
+  info["edges"] = validation.edges;
+  info["faces"] = validation.faces;
+  info["components"] = validation.components;
+  // Boundary loops need a manifold mesh; V - E + F and the genus also need every vertex on it.
+  std::optional<structure::TopologyReport> topology;
+  if (loaded.mesh) topology = structure::analyzeTopology(*loaded.mesh);
+  const bool eulerKnown = topology && hiddenBy.empty();
+  info["boundaries"] = topology ? Json(topology->boundaryLoops) : Json(nullptr);
+  info["euler"] = eulerKnown ? Json(topology->euler) : Json(nullptr);
+  info["genus"] = eulerKnown ? Json(topology->genus) : Json(nullptr);
+  info["closed"] = topology ? Json(topology->closed) : Json(nullptr);
+  if (!eulerKnown) info["topology_unknown_because"] = hiddenBy;
+  info["orientable"] = validation.orientable;
   if (loaded.mesh) {
-    auto topology = structure::analyzeTopology(*loaded.mesh);
     auto stats = structure::meshStatistics(*loaded.mesh);
-    info["vertices"] = topology.vertices;
-    info["edges"] = topology.edges;
-    info["faces"] = topology.faces;
-    info["components"] = topology.components;
-    info["boundaries"] = topology.boundaryLoops;
-    info["euler"] = topology.euler;
-    info["genus"] = topology.genus;
-    info["closed"] = topology.closed;
-    info["orientable"] = validation.orientable;
     info["bbox_diagonal"] = stats.bboxDiagonal;
     info["min_angle_degrees"] = stats.minAngleDegrees;
     info["median_angle_degrees"] = stats.medianAngleDegrees;
-  } else {
-    // Without a manifold mesh only the soup's counts are meaningful.
-    info["vertices"] = validation.vertices;
-    info["edges"] = validation.edges;
-    info["faces"] = validation.faces;
-    info["components"] = validation.components;
-    info["boundaries"] = nullptr;
-    info["euler"] = static_cast<long>(validation.vertices) - static_cast<long>(validation.edges) +
-                    static_cast<long>(validation.faces);
-    info["genus"] = nullptr;
-    info["closed"] = nullptr;
-    info["orientable"] = validation.orientable;
   }
   info["problems"] = problemsJson(validation);
   info["warnings"] = loaded.warnings;
@@ -57,14 +62,21 @@ Json infoJson(const std::string& path, const io::LoadedMesh& loaded) {
 }
 
 void printText(const Json& info) {
-  auto line = [](const char* key, const Json& value) {
+  std::string unknown = "unknown";
+  if (info.contains("topology_unknown_because")) {
+    unknown += " (";
+    for (const auto& kind : info["topology_unknown_because"])
+      unknown += (unknown.back() == '(' ? "" : ", ") + kind.get<std::string>();
+    unknown += ")";
+  }
+  auto line = [&unknown](const char* key, const Json& value) {
     std::string text = value.is_string() ? value.get<std::string>() : value.dump();
     if (value.is_number_float()) {
       char buffer[64];
       std::snprintf(buffer, sizeof buffer, "%.6g", value.get<double>());
       text = buffer;
     }
-    std::printf("%-21s %s\n", key, value.is_null() ? "unknown (invalid mesh)" : text.c_str());
+    std::printf("%-21s %s\n", key, value.is_null() ? unknown.c_str() : text.c_str());
   };
   for (const char* key :
        {"file", "vertices", "edges", "faces", "components", "boundaries", "euler", "genus",
@@ -99,15 +111,17 @@ void addInfoCommand(CLI::App& app, Command& command) {
       options.requireValid = false;
       io::LoadedMesh loaded = io::loadMesh(arguments->mesh, options);
       Json info = infoJson(arguments->mesh, loaded);
-      if (command.json) {
-        printJson(info);
-      } else {
+      if (!command.json) {
         printNotes(loaded.warnings, loaded.repairs);
         printText(info);
       }
-      if (loaded.validation.ok()) return int(kExitSuccess);
-      std::cerr << "mspline info: error: " << loaded.validation.summary() << std::endl;
-      return int(kExitInvalidInput);
+      if (!loaded.validation.ok()) {
+        // main prints the report with the error added under --json.
+        command.partialResult = std::move(info);
+        throw structure::InputError(loaded.validation.summary());
+      }
+      if (command.json) printJson(info);
+      return int(kExitSuccess);
     };
   });
 }

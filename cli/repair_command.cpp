@@ -40,9 +40,16 @@ void addRepairCommand(CLI::App& app, Command& command) {
       options.requireValid = false;
       io::LoadedMesh loaded = io::loadMesh(arguments->mesh, options);
       printNotes(loaded.warnings, loaded.repairs);
-      if (!loaded.validation.ok())
-        throw structure::InputError("after the requested repairs: " + loaded.validation.summary() +
-                                    " (nothing written)");
+      if (!loaded.validation.ok()) {
+        // Every defect left, each with its count and first elements: what the repairs cannot mend.
+        std::string left;
+        for (const auto& problem : loaded.validation.problems)
+          left += (left.empty() ? "" : "; ") + problem.message;
+        command.partialResult = {{"file", arguments->mesh},
+                                 {"repairs", repairsJson(loaded.repairs)},
+                                 {"problems", problemsJson(loaded.validation)}};
+        throw structure::InputError("after the requested repairs: " + left + " (nothing written)");
+      }
       io::writeMesh(arguments->output, loaded.soup);
       if (command.json) {
         printJson({{"file", arguments->mesh},

@@ -1,7 +1,6 @@
 #include "mspline/io/load_mesh.h"
 
 #include <algorithm>
-#include <array>
 
 #include "mspline/io/read_mesh.h"
 #include "mspline/structure/core/errors.h"
@@ -16,15 +15,11 @@ bool anyRepairRequested(const structure::RepairOptions& r) {
          r.keepLargestComponent || r.dropUnreferencedVertices;
 }
 
-// Problems after which OpenMesh cannot represent the faces; the others (several components,
-// unreferenced vertices, thin faces) still leave a mesh whose topology can be reported.
+// OpenMesh can hold the faces unless a problem prevents a manifold mesh; the others (several
+// components, unreferenced vertices, thin faces) leave a mesh whose geometry can be reported.
 bool structureAllowsMesh(const structure::ValidationReport& report) {
-  static const std::array<const char*, 7> blocking = {
-      "empty_mesh",        "face_index_out_of_range", "too_few_face_vertices",
-      "non_manifold_edge", "non_manifold_vertex",     "inconsistent_orientation",
-      "duplicate_face"};
   return std::none_of(report.problems.begin(), report.problems.end(), [](const auto& problem) {
-    return std::find(blocking.begin(), blocking.end(), problem.kind) != blocking.end();
+    return structure::preventsManifoldMesh(problem.kind);
   });
 }
 

@@ -578,6 +578,18 @@ ValidationReport validate(const PolygonSoup& soup, const ValidationOptions& opti
   return report;
 }
 
+bool preventsManifoldMesh(const std::string& kind) {
+  static const std::array<const char*, 7> kinds = {
+      "empty_mesh",        "face_index_out_of_range", "too_few_face_vertices",
+      "non_manifold_edge", "non_manifold_vertex",     "inconsistent_orientation",
+      "duplicate_face"};
+  return std::find(kinds.begin(), kinds.end(), kind) != kinds.end();
+}
+
+bool hidesTopology(const std::string& kind) {
+  return preventsManifoldMesh(kind) || kind == "unreferenced_vertex";
+}
+
 std::string ValidationReport::summary() const {
   if (problems.empty()) return "no problems";
   std::string out = problems.front().message;

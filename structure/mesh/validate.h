@@ -62,6 +62,16 @@ struct ValidationReport {
   std::string summary() const;
 };
 
+/// Whether a problem kind keeps the faces from forming an oriented manifold mesh: empty_mesh,
+/// face_index_out_of_range, too_few_face_vertices, non_manifold_edge, non_manifold_vertex,
+/// duplicate_face, inconsistent_orientation.
+bool preventsManifoldMesh(const std::string& kind);
+
+/// Whether a problem kind makes the Euler characteristic, genus and boundary loops meaningless:
+/// the kinds above, and unreferenced_vertex (isolated points would count as vertices and
+/// components of their own: each adds 1 to V - E + F and half a handle to the genus).
+bool hidesTopology(const std::string& kind);
+
 /// Runs every check; never throws on bad content (that is what the report is for).
 /// Faces with an index out of range or fewer than 3 vertices take part in no other check; faces
 /// with a repeated vertex index or duplicating an earlier face are reported as such and are left

@@ -1,7 +1,10 @@
 // `mspline info` on real meshes reports the topology the acceptance criteria name.
 #include <catch2/catch.hpp>
+#include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "mspline/io/read_mesh.h"
+#include "mspline/io/write_mesh.h"
 #include "support/test_data.h"
 
 using mspline::test::cliPath;
@@ -57,4 +60,56 @@ TEST_CASE("info: json has the documented keys", "[cli]") {
     CHECK(info.contains(key));
   CHECK(info["vertices"] == 37706);
   CHECK(info["faces"] == 75408);
+}
+
+TEST_CASE("info: figures an invalid mesh cannot have are unknown, with the defect and an error",
+          "[cli]") {
+  const std::string dir = mspline::test::scratchDirectory("info_invalid");
+  // A scan with holes and 1112 stray points: V - E + F would count each point, genus 556.
+  mspline::structure::PolygonSoup scan = mspline::io::readMesh(realMeshPath("head.off")).soup;
+  for (int i = 0; i < 1112; ++i) scan.positions.push_back({i * 1e-3, 0, 0});
+  const std::string path = dir + "/stray.off";
+  mspline::io::writeMesh(path, scan);
+
+  auto json = runCommand(cliPath() + " info --json " + path);
+  CHECK(json.exitCode == 2);
+  const auto info = nlohmann::json::parse(json.out);  // one JSON object
+  CHECK(info["valid"] == false);
+  CHECK(info["euler"].is_null());
+  CHECK(info["genus"].is_null());
+  CHECK(info["topology_unknown_because"] == nlohmann::json::array({"unreferenced_vertex"}));
+  // Boundary loops and components do not depend on the stray points.
+  CHECK(info["boundaries"] == 3);
+  CHECK(info["closed"] == false);
+  CHECK(info["components"] == 1);
+  CHECK(info["problems"][0]["kind"] == "unreferenced_vertex");
+  CHECK(info["problems"][0]["count"] == 1112);
+  CHECK(info["error"]["kind"] == "input");
+  CHECK(info["error"]["message"].get<std::string>().find("1112 unreferenced vertices") !=
+        std::string::npos);
+
+  auto text = runCommand(cliPath() + " info " + path);
+  CHECK(text.exitCode == 2);
+  CHECK(text.out.find("genus                 unknown (unreferenced_vertex)") != std::string::npos);
+  CHECK(text.out.find("boundaries            3") != std::string::npos);
+  CHECK(text.err.find("error: " + path + ": 1112 unreferenced vertices") != std::string::npos);
+
+  // Without a manifold mesh no boundary is known either.
+  const std::string bowtie = dir + "/bowtie.off";
+  std::ofstream(bowtie) << "OFF\n5 2 0\n0 0 0\n1 0 0\n0 1 0\n-1 0 0\n0 -1 0\n3 0 1 2\n3 0 3 4\n";
+  const auto pinched = nlohmann::json::parse(runCommand(cliPath() + " info --json " + bowtie).out);
+  for (const char* key : {"boundaries", "euler", "genus", "closed"}) CHECK(pinched[key].is_null());
+  CHECK(pinched["topology_unknown_because"] == nlohmann::json::array({"non_manifold_vertex"}));
+  CHECK(pinched.contains("error"));
+
+  // Several components leave every figure known: the genus is the sum of theirs.
+  const std::string pair = dir + "/pair.off";
+  std::ofstream(pair) << "OFF\n8 8 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n5 0 0\n6 0 0\n5 1 0\n5 0 1\n"
+                         "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n3 4 6 5\n3 4 5 7\n3 4 7 6\n3 5 6 7\n";
+  const auto two = nlohmann::json::parse(runCommand(cliPath() + " info --json " + pair).out);
+  CHECK(two["components"] == 2);
+  CHECK(two["euler"] == 4);
+  CHECK(two["genus"] == 0);
+  CHECK_FALSE(two.contains("topology_unknown_because"));
+  CHECK(two["error"]["message"].get<std::string>().find("2 components") != std::string::npos);
 }
