@@ -46,7 +46,7 @@ void addRepairFlags(CLI::App& sub, structure::RepairOptions& options) {
                "Remove faces over the same vertices as an earlier face");
   sub.add_flag("--split-non-manifold-edges", options.splitNonManifoldEdges,
                "Give each consistently oriented pair of faces at an edge shared by 3 or more "
-               "faces its own copy of the edge; other faces there get a boundary");
+               "faces its own copy of the edge; other faces there are detached");
   sub.add_flag("--split-non-manifold-vertices", options.splitNonManifoldVertices,
                "Give every fan of faces at a bow-tie vertex its own vertex");
   sub.add_flag("--orient", options.orientConsistently,

@@ -110,8 +110,8 @@ RepairAction splitEdges(PolygonSoup& soup) {
       countOf(split.edgesSplit, "non-manifold edge", "non-manifold edges") +
       " (shared by 3 or more faces), keeping " +
       countOf(split.pairsKept, "consistently oriented pair", "consistently oriented pairs") +
-      " of faces glued, leaving " + countOf(split.facesDetached, "face", "faces") +
-      " with a boundary there and adding " + countOf(split.verticesAdded, "vertex", "vertices");
+      " of faces glued, detaching " + countOf(split.facesDetached, "other face", "other faces") +
+      " and adding " + countOf(split.verticesAdded, "vertex", "vertices");
   if (split.edgesFullyDetached > 0)
     message += "; at " + countOf(split.edgesFullyDetached, "edge", "edges") +
                " the pairs met again around both ends, so all faces there were detached";

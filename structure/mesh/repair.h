@@ -17,7 +17,7 @@ struct RepairOptions {
   /// Remove faces that use the same vertex set as an earlier face.
   bool removeDuplicateFaces = false;
   /// Split edges shared by 3 or more faces so that each consistently oriented pair of faces keeps
-  /// a copy of its own and every other face gets a boundary there (splitNonManifoldEdges).
+  /// a copy of its own and every other face is detached there (splitNonManifoldEdges).
   bool splitNonManifoldEdges = false;
   /// Split vertices whose faces form several fans (bow-ties) into one vertex per fan.
   bool splitNonManifoldVertices = false;

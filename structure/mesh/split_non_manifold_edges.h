@@ -1,9 +1,10 @@
 #pragma once
 // Splits the edges shared by 3 or more faces, so that no face is removed: each consistently
-// oriented pair of faces around such an edge keeps a copy of it of its own, every other face gets
-// a boundary there. Removing the fewest faces instead would also leave a valid mesh, but it punches
-// holes where the scan has surface and picks the faces to lose arbitrarily; splitting keeps every
-// face and separates solids that merely touch along an edge, as splitting a bow-tie vertex does.
+// oriented pair of faces around such an edge keeps a copy of it of its own, and every other face is
+// detached there (a boundary, unless its fans around both ends join it to another detached face
+// anyway). Removing the fewest faces instead would also leave a valid mesh, but it punches holes
+// where the scan has surface and picks the faces to lose arbitrarily; splitting keeps every face
+// and separates solids that merely touch along an edge, as splitting a bow-tie vertex does.
 #include <cstddef>
 
 #include "mspline/structure/mesh/polygon_soup.h"
@@ -12,7 +13,7 @@ namespace mspline::structure {
 
 struct SplitNonManifoldEdgesOptions {
   /// Keep pairs of faces glued at a non-manifold edge (true), or give every face its own copy of
-  /// such an edge, all of them boundaries (false). Pairs are taken around the edge in angular
+  /// such an edge, all of them detached (false). Pairs are taken around the edge in angular
   /// order: a face traversing the edge backwards is glued to the next face counterclockwise (about
   /// the edge's direction from its smaller to its larger vertex) when that face traverses it
   /// forwards, so each pair is consistently oriented and encloses the space behind both faces'
@@ -29,7 +30,8 @@ struct SplitNonManifoldEdgesResult {
   std::size_t edgesSplit = 0;
   /// Pairs of faces that still share a copy of a split edge.
   std::size_t pairsKept = 0;
-  /// (Face, edge) incidences left alone at a split edge: the face has a boundary there now.
+  /// (Face, edge) incidences left out of a pair at a split edge: the face's copy of the edge is a
+  /// boundary unless its fans around both ends hold another such face (then the two share it).
   std::size_t facesDetached = 0;
   /// Split edges whose pairs could not be separated by their vertex fans (the pairs met again
   /// around both ends), so every face there was detached instead; also counted in facesDetached.
