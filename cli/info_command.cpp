@@ -20,16 +20,20 @@ struct InfoArguments {
 };
 
 // The kinds of the problems that make the Euler characteristic and the genus unknown.
-std::vector<std::string> topologyHiddenBy(const structure::ValidationReport& validation) {
+std::vector<std::string> topologyHiddenBy(const io::LoadedMesh& loaded) {
   std::vector<std::string> kinds;
-  for (const auto& problem : validation.problems)
+  for (const auto& problem : loaded.validation.problems)
     if (structure::hidesTopology(problem.kind)) kinds.push_back(problem.kind);
+  // OpenMesh can also reject a face whose defect has a kind of its own (a degenerate face
+  // repeating a vertex): then every defect is named.
+  if (kinds.empty() && !loaded.mesh)
+    for (const auto& problem : loaded.validation.problems) kinds.push_back(problem.kind);
   return kinds;
 }
 
 Json infoJson(const std::string& path, const io::LoadedMesh& loaded) {
   const auto& validation = loaded.validation;
-  const std::vector<std::string> hiddenBy = topologyHiddenBy(validation);
+  const std::vector<std::string> hiddenBy = topologyHiddenBy(loaded);
   Json info;
   info["file"] = path;
   info["valid"] = validation.ok();

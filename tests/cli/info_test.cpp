@@ -102,6 +102,15 @@ TEST_CASE("info: figures an invalid mesh cannot have are unknown, with the defec
   CHECK(pinched["topology_unknown_because"] == nlohmann::json::array({"non_manifold_vertex"}));
   CHECK(pinched.contains("error"));
 
+  // A face repeating a vertex keeps the mesh from being built: that defect is named.
+  const std::string repeated = dir + "/repeated.off";
+  std::ofstream(repeated) << "OFF\n4 5 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+                             "3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n3 0 0 1\n";
+  const auto degenerate =
+      nlohmann::json::parse(runCommand(cliPath() + " info --json " + repeated).out);
+  CHECK(degenerate["genus"].is_null());
+  CHECK(degenerate["topology_unknown_because"] == nlohmann::json::array({"degenerate_face"}));
+
   // Several components leave every figure known: the genus is the sum of theirs.
   const std::string pair = dir + "/pair.off";
   std::ofstream(pair) << "OFF\n8 8 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n5 0 0\n6 0 0\n5 1 0\n5 0 1\n"
