@@ -15,6 +15,7 @@
 #include <utility>
 
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/core/min_union_find.h"
 #include "mspline/structure/mesh/validate.h"
 
 namespace mspline::structure {
@@ -109,27 +110,6 @@ std::vector<std::array<Index, 2>> consistentPairs(const std::vector<EdgeCorner>&
   return pairs;
 }
 
-// Union-find over a vertex's corners, small and local.
-class LocalUnionFind {
- public:
-  void reset(std::size_t n) {
-    parent_.resize(n);
-    std::iota(parent_.begin(), parent_.end(), Index{0});
-  }
-  Index find(Index x) {
-    while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
-    return x;
-  }
-  void unite(Index a, Index b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent_[std::max(a, b)] = std::min(a, b);
-  }
-
- private:
-  std::vector<Index> parent_;
-};
-
 // The corners of usable faces at each vertex of a split edge, in corner order.
 struct VertexCorners {
   std::vector<Index> vertices;     // the split edges' vertices, ascending
@@ -184,13 +164,12 @@ std::vector<Index> fansAtVertices(const PolygonSoup& soup, const VertexCorners& 
                                   const std::vector<std::uint8_t>& detached,
                                   std::size_t cornerCount) {
   std::vector<Index> fan(cornerCount, kNone);
-  LocalUnionFind local;
   // (neighbour vertex, local corner) for both edges of every corner at the vertex.
   std::vector<std::pair<Index, Index>> spokes;
   for (std::size_t s = 0; s < at.vertices.size(); ++s) {
     const Index v = at.vertices[s];
     const Index begin = at.start[s], count = at.start[s + 1] - begin;
-    local.reset(count);
+    MinUnionFind local(count);
     spokes.clear();
     for (Index j = 0; j < count; ++j) {
       const auto& face = soup.faces[at.cornerFace[begin + j]];

@@ -10,38 +10,13 @@
 #include <utility>
 
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/core/min_union_find.h"
 
 namespace mspline::structure {
 namespace {
 
 using Index = std::uint32_t;
 constexpr Index kNone = SoupConnectivity::none;
-
-// Union-find whose root is always the smallest member, so a set's id is its first element.
-class MinUnionFind {
- public:
-  explicit MinUnionFind(std::size_t n) : parent_(n) {
-    std::iota(parent_.begin(), parent_.end(), Index{0});
-  }
-  Index find(Index x) {
-    while (parent_[x] != x) {
-      parent_[x] = parent_[parent_[x]];
-      x = parent_[x];
-    }
-    return x;
-  }
-  void unite(Index a, Index b) {
-    a = find(a);
-    b = find(b);
-    if (a < b)
-      parent_[b] = a;
-    else if (b < a)
-      parent_[a] = b;
-  }
-
- private:
-  std::vector<Index> parent_;
-};
 
 // Union-find over faces that also keeps every face's flip parity relative to its root (the
 // smallest face of the set): a 2-colouring across manifold edges. A constraint contradicting the

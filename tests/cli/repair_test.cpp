@@ -9,6 +9,7 @@
 #include "mspline/io/read_mesh.h"
 #include "mspline/io/write_mesh.h"
 #include "support/test_data.h"
+#include "support/test_meshes.h"
 
 namespace fs = std::filesystem;
 using mspline::structure::PolygonSoup;
@@ -94,21 +95,7 @@ TEST_CASE("repair: --all mends non-manifold edges of a scan and fit runs on the 
 
 TEST_CASE("repair: what --all cannot mend is named, and nothing is written", "[cli]") {
   const std::string dir = mspline::test::scratchDirectory("repair_unmendable");
-  // A Moebius strip of 12 triangles: no flips orient it.
-  PolygonSoup strip;
-  const int n = 6;
-  const double pi = std::acos(-1.0);
-  for (double w : {0.3, -0.3})
-    for (int i = 0; i < n; ++i) {
-      const double u = 2 * pi * i / n;
-      strip.positions.push_back({(1 + w * std::cos(u / 2)) * std::cos(u),
-                                 (1 + w * std::cos(u / 2)) * std::sin(u), w * std::sin(u / 2)});
-    }
-  for (int i = 0; i < n; ++i) {
-    const std::int64_t t1 = i + 1 < n ? i + 1 : n, b1 = i + 1 < n ? n + i + 1 : 0;
-    strip.faces.push_back({i, n + i, b1});
-    strip.faces.push_back({i, b1, t1});
-  }
+  const PolygonSoup strip = mspline::test::moebiusSoup();
   const std::string input = dir + "/moebius.off", output = dir + "/out.off";
   mspline::io::writeMesh(input, strip);
 

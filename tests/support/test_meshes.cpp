@@ -382,6 +382,23 @@ PolygonSoup gridSoup(int n, bool quads) {
   return s;
 }
 
+PolygonSoup moebiusSoup(int n) {
+  PolygonSoup s;
+  s.sourceName = "moebius";
+  for (double w : {0.3, -0.3})
+    for (int i = 0; i < n; ++i) {
+      const double u = 2 * kPi * i / n;
+      s.positions.push_back({(1 + w * std::cos(u / 2)) * std::cos(u),
+                             (1 + w * std::cos(u / 2)) * std::sin(u), w * std::sin(u / 2)});
+    }
+  for (int i = 0; i < n; ++i) {
+    const std::int64_t t1 = i + 1 < n ? i + 1 : n, b1 = i + 1 < n ? n + i + 1 : 0;
+    s.faces.push_back({i, n + i, b1});
+    s.faces.push_back({i, b1, t1});
+  }
+  return s;
+}
+
 void appendSoup(PolygonSoup& soup, const PolygonSoup& other) {
   const auto base = static_cast<std::int64_t>(soup.positions.size());
   soup.positions.insert(soup.positions.end(), other.positions.begin(), other.positions.end());

@@ -53,6 +53,9 @@ PolygonSoup tetrahedronSoup();
 PolygonSoup octahedronSoup(double offset = 0.0);
 /// n x n grid on the unit square; quads split into two triangles or kept as quads ("grid").
 PolygonSoup gridSoup(int n, bool quads = false);
+/// A Moebius strip of 2n triangles, width 0.6 around the unit circle ("moebius"): no flips
+/// orient it.
+PolygonSoup moebiusSoup(int n = 6);
 /// Appends `other`'s vertices and faces to `soup` (a second component).
 void appendSoup(PolygonSoup& soup, const PolygonSoup& other);
 

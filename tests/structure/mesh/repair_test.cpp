@@ -168,21 +168,7 @@ TEST_CASE("repair: orienting flips faces to agree with the first face", "[struct
 }
 
 TEST_CASE("repair: a Moebius strip is left as it is and the action says why", "[structure]") {
-  PolygonSoup s;
-  s.sourceName = "moebius";
-  const int n = 6;
-  const double pi = std::acos(-1.0);
-  for (double w : {0.3, -0.3})
-    for (int i = 0; i < n; ++i) {
-      const double u = 2 * pi * i / n;
-      s.positions.push_back({(1 + w * std::cos(u / 2)) * std::cos(u),
-                             (1 + w * std::cos(u / 2)) * std::sin(u), w * std::sin(u / 2)});
-    }
-  for (int i = 0; i < n; ++i) {
-    const std::int64_t t1 = i + 1 < n ? i + 1 : n, b1 = i + 1 < n ? n + i + 1 : 0;
-    s.faces.push_back({i, n + i, b1});
-    s.faces.push_back({i, b1, t1});
-  }
+  const PolygonSoup s = test::moebiusSoup();
   RepairOptions options;
   options.orientConsistently = true;
   const auto result = repair(s, options);

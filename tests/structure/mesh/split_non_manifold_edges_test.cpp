@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <random>
 #include <set>
 
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/mesh/repair.h"
 #include "mspline/structure/mesh/split_non_manifold_edges.h"
 #include "mspline/structure/mesh/validate.h"
@@ -77,7 +79,7 @@ PolygonSoup book(const std::vector<bool>& forward) {
   s.sourceName = "book.off";
   s.positions = {{0, 0, 0}, {0, 0, 1}};
   for (std::size_t i = 0; i < forward.size(); ++i) {
-    const double angle = 2 * std::acos(-1.0) * double(i) / double(forward.size());
+    const double angle = 2 * mspline::kPi * double(i) / double(forward.size());
     s.positions.push_back({std::cos(angle), std::sin(angle), 0.5});
     const auto wing = static_cast<std::int64_t>(s.positions.size() - 1);
     s.faces.push_back(forward[i] ? Face{0, 1, wing} : Face{1, 0, wing});
@@ -162,8 +164,7 @@ TEST_CASE("split edges: a fin on a fan's spoke comes off, the fan stays whole", 
   s.sourceName = "fan.off";
   s.positions.push_back({0, 0, 0});
   for (int i = 0; i < 6; ++i)
-    s.positions.push_back(
-        {std::cos(i * std::acos(-1.0) / 3), std::sin(i * std::acos(-1.0) / 3), 0});
+    s.positions.push_back({std::cos(i * mspline::kPi / 3), std::sin(i * mspline::kPi / 3), 0});
   for (std::int64_t i = 1; i <= 6; ++i) s.faces.push_back({0, i, i % 6 + 1});
   s.positions.push_back({0.5, 0, 1});
   s.faces.push_back({0, 1, 7});  // a fin standing on the spoke 0-1: 3 faces there
