@@ -155,9 +155,9 @@ VertexCorners cornersAtVertices(const PolygonSoup& soup, const SoupConnectivity&
   return at;
 }
 
-// Per corner at a split edge's vertex: the smallest corner of its fan, given which pairs of faces
-// stay glued at each split edge (`glued` maps an edge key to its SplitEdge, whose pairs are used
-// unless the edge is fully detached).
+// Per corner at a split edge's vertex: the smallest corner of its fan, where faces are joined
+// across the manifold edges at the vertex and across split edges by their pairs (none when
+// detached); `splitEdgeOf` finds a split edge by its key.
 std::vector<Index> fansAtVertices(const PolygonSoup& soup, const VertexCorners& at,
                                   const std::unordered_map<std::uint64_t, Index>& splitEdgeOf,
                                   const std::vector<SplitEdge>& edges,
