@@ -3,6 +3,7 @@
 #include <new>
 
 #include "cli/command.h"
+#include "mspline/io/atomic_file.h"
 #include "mspline/structure/core/errors.h"
 
 namespace mspline::cli {
@@ -33,7 +34,11 @@ int reportError(const Command& command, const char* kind, const std::string& mes
 int runCommand(const Command& command) {
   using namespace structure;
   try {
-    return command.run();
+    // A command's outputs replace their targets together, once it has succeeded.
+    io::OutputBatch outputs;
+    const int code = command.run();
+    outputs.commit();
+    return code;
   } catch (const IoError& e) {
     return reportError(command, "io", e.what(), kExitInvalidInput);
   } catch (const TopologyError& e) {

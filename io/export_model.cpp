@@ -3,6 +3,7 @@
 #include "mspline/io/error_map.h"
 #include "mspline/io/read_mesh.h"
 #include "mspline/io/shaded_picture.h"
+#include "mspline/io/atomic_file.h"
 #include "mspline/io/write_mesh.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/mesh/bounding_box.h"
@@ -57,6 +58,7 @@ ExportFileResult exportModel(const spline::SplineModel& model, const std::string
   result.surface = spline::exportSurface(model, name, surfaceOptions);
   spline::ModelTessellation& surface = result.surface.surface;
   surface.mesh.sourceName = options.output;
+  OutputBatch outputs;
   VertexAttributes attributes;
   attributes.normals = surface.normals;
   if (meshFormatFromPath(options.output) == MeshFormat::Obj) attributes.uvs = surface.uvs;
@@ -71,6 +73,7 @@ ExportFileResult exportModel(const spline::SplineModel& model, const std::string
     writePng(options.png, renderShaded(structure::pointMatrix(surface.mesh.positions),
                                        structure::triangleIndices(surface.mesh),
                                        structure::pointMatrix(surface.normals)));
+  outputs.commit();
   return result;
 }
 

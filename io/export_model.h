@@ -1,7 +1,7 @@
 #pragma once
 // `mspline export` as a library call: a spline model's surface (spline/model/export_surface.h)
 // written as a triangle mesh, and optionally its control net, the error map of a scan against it
-// and a shaded picture of it. Every file is written atomically.
+// and a shaded picture of it. The files are written all or none (io/atomic_file.h).
 #include <cstddef>
 #include <string>
 

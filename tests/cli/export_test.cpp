@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -219,4 +220,20 @@ TEST_CASE("export: the control net, the error map and the picture", "[cli]") {
   INFO("share of surface pixels " << share);
   CHECK(share > 0.1);
   CHECK(share < 0.95);
+}
+
+TEST_CASE("export: a failing output leaves every target as it was", "[cli]") {
+  const std::string dir = test::scratchDirectory("cli_export_all_or_none");
+  const std::string model = triModel(dir);
+  std::ofstream(dir + "/s.obj") << "old surface";
+  // The picture comes last and cannot be written: the surface and the net must not change.
+  const auto result = test::runCommand(test::cliPath() + " export " + model + " -o " + dir +
+                                       "/s.obj --resolution 2 --control-net " + dir +
+                                       "/net.obj --png " + dir + "/missing/s.png");
+  CHECK(result.exitCode == 2);
+  CHECK(test::fileText(dir + "/s.obj") == "old surface");
+  CHECK(!std::filesystem::exists(dir + "/net.obj"));
+  std::size_t files = 0;
+  for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(dir)) ++files;
+  CHECK(files == 2);  // the model and the old surface
 }
