@@ -1,10 +1,10 @@
 // mspline info: topology, geometry and every validation problem of a mesh file.
 #include <cstdio>
-#include <iostream>
 
 #include "cli/command.h"
 #include "cli/mesh_report.h"
 #include "mspline/io/load_mesh.h"
+#include "mspline/structure/core/errors.h"
 #include "mspline/structure/mesh/mesh_statistics.h"
 #include "mspline/structure/topology/topology.h"
 
@@ -93,21 +93,21 @@ void addInfoCommand(CLI::App& app, Command& command) {
   addRepairFlags(*sub, arguments->repair);
   sub->callback([&command, arguments] {
     command.name = "info";
+    command.files = {arguments->mesh};
     command.run = [&command, arguments] {
       io::LoadOptions options;
       options.repair = arguments->repair;
       options.requireValid = false;
       io::LoadedMesh loaded = io::loadMesh(arguments->mesh, options);
       Json info = infoJson(arguments->mesh, loaded);
-      if (command.json) {
-        printJson(info);
-      } else {
-        printNotes(loaded.warnings, loaded.repairs);
-        printText(info);
+      addNotes(command, loaded.warnings, loaded.repairs);
+      if (!command.json) printText(info);
+      if (!loaded.validation.ok()) {
+        command.partialResult = info;
+        throw structure::InputError(loaded.validation.summary());
       }
-      if (loaded.validation.ok()) return int(kExitSuccess);
-      std::cerr << "mspline info: error: " << loaded.validation.summary() << std::endl;
-      return int(kExitInvalidInput);
+      if (command.json) printJson(info);
+      return int(kExitSuccess);
     };
   });
 }
