@@ -218,3 +218,19 @@ TEST_CASE("error_policy: the error comes first, warnings after; info reports it 
   CHECK(info["error"]["kind"] == "input");
   CHECK_THAT(info["error"]["message"].get<std::string>(), Catch::Contains("unreferenced"));
 }
+
+TEST_CASE("error_policy: an error map of a scan with a NaN vertex is refused", "[cli]") {
+  const fs::path dir = mspline::test::scratchDirectory("error_policy_nan_scan");
+  const std::string model = (dir / "t.msp").string();
+  mspline::test::runJson("spline -q " + mspline::test::realMeshPath("knot1.off") +
+                         " --kind tspline --cones none --control 500 -o " + model);
+  const fs::path scan = dir / "nan.off";
+  writeFile(scan, "OFF\n4 4 0\n0 0 0\n1 0 nan\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n");
+  const CommandResult result =
+      runCommand(cliPath() + " export " + model + " -o " + quoted(dir / "s.obj") + " --error-map " +
+                 quoted(scan) + " " + quoted(dir / "err.ply") + " --json");
+  CHECK(result.exitCode == 2);
+  CHECK_THAT(onlyObject(result)["error"]["message"].get<std::string>(),
+             Catch::Contains("nan.off") && Catch::Contains("finite"));
+  CHECK_FALSE(fs::exists(dir / "err.ply"));
+}
