@@ -51,9 +51,10 @@ void addAtlasCommand(CLI::App& app, Command& command) {
   sub->add_flag("--json", command.json, "Print one JSON object on stdout");
   sub->callback([&command, arguments] {
     command.name = "atlas";
+    command.files = {arguments->mesh, arguments->output, coneFile(arguments->settings)};
     command.run = [&command, arguments] {
       const AtlasArguments& a = *arguments;
-      const Progress progress = progressLines("atlas", a.settings.quiet);
+      const Progress progress = progressLines(command, a.settings.quiet);
       Stopwatch clock;
       Json stages;
       io::LoadedMesh loaded = io::loadMesh(a.mesh);

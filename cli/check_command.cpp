@@ -103,6 +103,7 @@ void addCheckCommand(CLI::App& app, Command& command) {
   sub->add_flag("--json", command.json, "Print one JSON object on stdout");
   sub->callback([&command, arguments] {
     command.name = "check";
+    command.files = {arguments->model};
     command.run = [&command, arguments] {
       const CheckArguments& a = *arguments;
       structure::Stopwatch clock;

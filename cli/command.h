@@ -4,6 +4,7 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "mspline/structure/core/progress.h"
 
@@ -11,7 +12,8 @@ namespace mspline::cli {
 
 using Json = nlohmann::ordered_json;
 
-/// The command's exit codes (documented in `mspline --help`).
+/// The command's exit codes (documented in `mspline --help` and the README): main decides them
+/// from the kind of error alone.
 enum ExitCode : int {
   kExitSuccess = 0,
   kExitUsage = 1,
@@ -24,10 +26,18 @@ struct Command {
   std::string name;
   /// True when the user asked for --json: results (and errors) go to stdout as one JSON object.
   bool json = false;
+  /// The files named on the command line, the main input first (set by the subcommand's
+  /// callback): main prefixes an error message that names none of them with the first.
+  std::vector<std::string> files;
   /// Runs the command and returns its exit code; throws mspline errors for main to report.
   std::function<int()> run;
   /// With --json: what a failing command had found before it failed; main adds "error" to it.
   Json partialResult;
+  /// The stage running (the last progress message, quiet or not): named when memory runs out.
+  std::string stage;
+  /// Warnings and repair notes for stderr, printed by main after the command's outcome so that
+  /// the first stderr line of a failed run is its error.
+  std::vector<std::string> notes;
 };
 
 void addInfoCommand(CLI::App& app, Command& command);
@@ -44,11 +54,12 @@ void addCompareOsdCommand(CLI::App& app, Command& command);
 void addFitCommand(CLI::App& app, Command& command);
 void addViewCommand(CLI::App& app, Command& command);
 
-/// Prints one JSON object on stdout.
+/// Prints one JSON object on stdout. Bytes that are not UTF-8 (from file names or file contents)
+/// become U+FFFD: the output stays valid JSON.
 void printJson(const Json& object);
 
 /// Progress as lines "<command>: <message>" on stderr, one per message (a stage reported at
-/// fraction 1); nothing when `quiet`.
-structure::Progress progressLines(const std::string& command, bool quiet);
+/// fraction 1); nothing when `quiet`. Every message becomes command.stage.
+structure::Progress progressLines(Command& command, bool quiet);
 
 }  // namespace mspline::cli

@@ -36,6 +36,7 @@ void addCompareOsdCommand(CLI::App& app, Command& command) {
   sub->add_flag("--json", command.json, "Print one JSON object on stdout");
   sub->callback([&command, arguments] {
     command.name = "compare-osd";
+    command.files = {arguments->model};
     command.run = [&command, arguments] {
       const CompareOsdArguments& a = *arguments;
       structure::Stopwatch clock;

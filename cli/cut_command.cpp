@@ -52,14 +52,12 @@ void addCutCommand(CLI::App& app, Command& command) {
   sub->add_flag("-q,--quiet", arguments->quiet, "No progress on stderr");
   sub->callback([&command, arguments] {
     command.name = "cut";
+    command.files = {arguments->mesh, arguments->output};
     command.run = [&command, arguments] {
       structure::Stopwatch clock;
       io::meshFormatFromPath(arguments->output);  // fail before the work, not after
       io::LoadedMesh loaded = io::loadMesh(arguments->mesh);
-      if (!arguments->quiet) {
-        printNotes(loaded.warnings, loaded.repairs);
-        std::cerr << "cut: " << loaded.mesh->n_faces() << " faces loaded, cutting..." << std::endl;
-      }
+      if (!arguments->quiet) addNotes(command, loaded.warnings, loaded.repairs);
       structure::CutOptions options;
       options.baseVertex = arguments->baseVertex;
       options.oneVertexSchema = !arguments->generalCutGraph;

@@ -138,6 +138,9 @@ void addExportCommand(CLI::App& app, Command& command) {
   sub->add_flag("--json", command.json, "Print one JSON object on stdout");
   sub->callback([&command, arguments] {
     command.name = "export";
+    command.files = {arguments->model, arguments->output, arguments->controlNet, arguments->png};
+    command.files.insert(command.files.end(), arguments->errorMap.begin(),
+                         arguments->errorMap.end());
     command.run = [&command, arguments] { return runExport(*arguments, command); };
   });
 }

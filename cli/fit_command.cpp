@@ -123,6 +123,7 @@ void addFitCommand(CLI::App& app, Command& command) {
   sub->add_flag("--json", command.json, "Print one JSON object on stdout");
   sub->callback([&command, arguments] {
     command.name = "fit";
+    command.files = {arguments->scan, arguments->output, coneFile(arguments->settings)};
     command.run = [&command, arguments] {
       const FitArguments& a = *arguments;
       ProgressBar bar(a.settings.quiet);
@@ -134,6 +135,7 @@ void addFitCommand(CLI::App& app, Command& command) {
       options.flatten = toFlattenOptions(a.settings, a.scan);
       const spline::FitResult fit =
           spline::fitScan(*loaded.mesh, options, [&](const std::string& stage, double fraction) {
+            command.stage = stage;
             if (fraction < 1.0)
               bar.show(stage, fraction);
             else

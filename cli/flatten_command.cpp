@@ -44,18 +44,18 @@ void addFlattenCommand(CLI::App& app, Command& command) {
   sub->add_flag("--json", command.json, "Print one JSON object on stdout");
   sub->callback([&command, arguments] {
     command.name = "flatten";
+    command.files = {arguments->mesh, arguments->output, coneFile(arguments->settings),
+                     arguments->svg};
     command.run = [&command, arguments] {
       const FlattenArguments& a = *arguments;
       if (io::meshFormatFromPath(a.output) != io::MeshFormat::Obj)
         throw InputError(a.output + ": flatten writes per-corner UVs, which only OBJ holds");
-      const Progress progress = progressLines("flatten", a.settings.quiet);
+      const Progress progress = progressLines(command, a.settings.quiet);
       Stopwatch clock;
       Json stages;
       io::LoadedMesh loaded = io::loadMesh(a.mesh);
       const TriMesh& mesh = *loaded.mesh;
       stages["load"] = clock.lap();
-      structure::report(progress, std::to_string(mesh.n_faces()) + " faces loaded; placing cones");
-
       const FlattenOptions options = toFlattenOptions(a.settings, a.mesh);
       const Flattening flat = flattenSurface(mesh, options, progress);
       Json report = flatteningJson(flat, options, stages, command);

@@ -54,6 +54,12 @@ void addFlattenOptions(CLI::App& sub, FlattenSettings& settings, const std::stri
   sub.add_flag("-q,--quiet", settings.quiet, "No progress on stderr");
 }
 
+std::string coneFile(const FlattenSettings& settings) {
+  const std::string& cones = settings.cones;
+  const bool named = !isCount(cones) && cones != "none" && cones != "auto" && !settings.singleCone;
+  return named ? cones : std::string();
+}
+
 FlattenOptions toFlattenOptions(const FlattenSettings& settings, const std::string& file) {
   FlattenOptions options;
   options.scheme = settings.scheme == "tangential"  ? MetricScheme::Tangential
@@ -74,8 +80,8 @@ FlattenOptions toFlattenOptions(const FlattenSettings& settings, const std::stri
       throw InputError("--cones " + cones + ": not a number of cones from 0 to 2^31 - 1");
   } else if (cones == "none") {
     options.cones.emplace();
-  } else if (cones != "auto" && !settings.singleCone) {  // a single cone is placed: file unread
-    options.cones = readConeFile(cones);
+  } else if (const std::string path = coneFile(settings); !path.empty()) {
+    options.cones = readConeFile(path);
   }
   return options;
 }

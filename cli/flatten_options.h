@@ -35,6 +35,10 @@ bool parseCount(const std::string& text, int& count);
 void addFlattenOptions(CLI::App& sub, FlattenSettings& settings,
                        const std::string& toleranceFlag = "--tolerance");
 
+/// The cone file --cones names, or "" when it names none (auto, none, a count, or unread because
+/// of --single-cone).
+std::string coneFile(const FlattenSettings& settings);
+
 /// The library's options for flattening the surface read from `file`: --cones auto, none, a count
 /// or a cone file (read here; IoError/InputError as readConeFile).
 structure::FlattenOptions toFlattenOptions(const FlattenSettings& settings,

@@ -1,6 +1,5 @@
 // mspline info: topology, geometry and every validation problem of a mesh file.
 #include <cstdio>
-#include <iostream>
 #include <optional>
 
 #include "cli/command.h"
@@ -109,16 +108,15 @@ void addInfoCommand(CLI::App& app, Command& command) {
   addRepairFlags(*sub, arguments->repair);
   sub->callback([&command, arguments] {
     command.name = "info";
+    command.files = {arguments->mesh};
     command.run = [&command, arguments] {
       io::LoadOptions options;
       options.repair = arguments->repair;
       options.requireValid = false;
       io::LoadedMesh loaded = io::loadMesh(arguments->mesh, options);
       Json info = infoJson(arguments->mesh, loaded);
-      if (!command.json) {
-        printNotes(loaded.warnings, loaded.repairs);
-        printText(info);
-      }
+      addNotes(command, loaded.warnings, loaded.repairs);
+      if (!command.json) printText(info);
       if (!loaded.validation.ok()) {
         // main prints the report with the error added under --json.
         command.partialResult = std::move(info);

@@ -1,7 +1,5 @@
 #include "cli/mesh_report.h"
 
-#include <iostream>
-
 namespace mspline::cli {
 
 Json problemsJson(const structure::ValidationReport& report) {
@@ -22,10 +20,10 @@ Json repairsJson(const std::vector<structure::RepairAction>& actions) {
   return repairs;
 }
 
-void printNotes(const std::vector<std::string>& warnings,
-                const std::vector<structure::RepairAction>& actions) {
-  for (const auto& warning : warnings) std::cerr << "warning: " << warning << "\n";
-  for (const auto& action : actions) std::cerr << "repair: " << action.message << "\n";
+void addNotes(Command& command, const std::vector<std::string>& warnings,
+              const std::vector<structure::RepairAction>& actions) {
+  for (const auto& warning : warnings) command.notes.push_back("warning: " + warning);
+  for (const auto& action : actions) command.notes.push_back("repair: " + action.message);
 }
 
 void addRepairFlags(CLI::App& sub, structure::RepairOptions& options) {

@@ -11,9 +11,9 @@ namespace mspline::cli {
 Json problemsJson(const structure::ValidationReport& report);
 Json repairsJson(const std::vector<structure::RepairAction>& actions);
 
-/// Prints warnings and repair actions on stderr (progress-style information, not results).
-void printNotes(const std::vector<std::string>& warnings,
-                const std::vector<structure::RepairAction>& actions);
+/// Adds warnings and repair actions to the notes main prints on stderr (information, not results).
+void addNotes(Command& command, const std::vector<std::string>& warnings,
+              const std::vector<structure::RepairAction>& actions);
 
 /// Adds the repair flags (--merge-duplicate-vertices, ..., --all) to a subcommand.
 void addRepairFlags(CLI::App& sub, structure::RepairOptions& options);

@@ -64,6 +64,7 @@ void addPictureCommand(CLI::App& app, Command& command) {
   sub->add_flag("--json", command.json, "Print one JSON object on stdout");
   sub->callback([&command, arguments] {
     command.name = "picture";
+    command.files = {arguments->mesh, arguments->output, coneFile(arguments->settings)};
     command.run = [&command, arguments] {
       const PictureArguments& a = *arguments;
       const io::PictureKind kind = a.kind == "layout"    ? io::PictureKind::Layout
@@ -72,7 +73,7 @@ void addPictureCommand(CLI::App& app, Command& command) {
                                                          : io::PictureKind::Cover;
       if (lowerExtension(a.output) != ".png")
         throw InputError(a.output + ": picture writes PNG files (.png)");
-      const Progress progress = progressLines("picture", a.settings.quiet);
+      const Progress progress = progressLines(command, a.settings.quiet);
       Stopwatch clock;
       Json stages;
       Json report;
@@ -90,8 +91,6 @@ void addPictureCommand(CLI::App& app, Command& command) {
       } else {
         loaded = io::loadMesh(a.mesh);
         stages["load"] = clock.lap();
-        structure::report(progress,
-                          std::to_string(loaded->mesh->n_faces()) + " faces loaded; flattening");
       }
       const TriMesh& mesh = atlas ? atlas->mesh : *loaded->mesh;
       if (kind == io::PictureKind::Cover) {

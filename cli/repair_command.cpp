@@ -33,13 +33,14 @@ void addRepairCommand(CLI::App& app, Command& command) {
   addRepairFlags(*sub, arguments->repair);
   sub->callback([&command, arguments] {
     command.name = "repair";
+    command.files = {arguments->mesh, arguments->output};
     command.run = [&command, arguments] {
       io::meshFormatFromPath(arguments->output);  // fail before the work, not after
       io::LoadOptions options;
       options.repair = arguments->repair;
       options.requireValid = false;
       io::LoadedMesh loaded = io::loadMesh(arguments->mesh, options);
-      printNotes(loaded.warnings, loaded.repairs);
+      addNotes(command, loaded.warnings, loaded.repairs);
       if (!loaded.validation.ok()) {
         // Every defect left, each with its count and first elements: what the repairs cannot mend.
         std::string left;

@@ -71,6 +71,7 @@ void addSplineCommand(CLI::App& app, Command& command) {
   sub->add_flag("--json", command.json, "Print one JSON object on stdout");
   sub->callback([&command, arguments] {
     command.name = "spline";
+    command.files = {arguments->mesh, arguments->output, coneFile(arguments->settings)};
     // T-spline knot lines must survive chart changes: quarter-turn cones and holonomy.
     // Quad grids also need every cone angle to be at least pi (no vertex of valence one).
     if (arguments->kind == "tspline") {
@@ -80,6 +81,7 @@ void addSplineCommand(CLI::App& app, Command& command) {
     command.run = [&command, arguments] {
       const SplineArguments& a = *arguments;
       const auto progress = [&](const std::string& line, double) {
+        command.stage = line;
         if (!a.settings.quiet) std::cerr << "spline: " << line << std::endl;
       };
       structure::Stopwatch clock;
@@ -91,7 +93,6 @@ void addSplineCommand(CLI::App& app, Command& command) {
       if (!topology.closed)
         throw structure::InputError(a.mesh + ": spline needs a closed surface; this one has " +
                                     std::to_string(topology.boundaryLoops) + " boundary loops");
-      progress(std::to_string(mesh.n_faces()) + " faces loaded; flattening", 1.0);
       const structure::FlattenOptions flattenOptions = toFlattenOptions(a.settings, a.mesh);
       const structure::Flattening flattening =
           structure::flattenSurface(mesh, flattenOptions, progress);

@@ -80,6 +80,9 @@ void addViewCommand(CLI::App& app, Command& command) {
   sub->add_flag("--json", command.json, "Print one JSON object on stdout");
   sub->callback([&command, arguments] {
     command.name = "view";
+    command.files = arguments->files;
+    for (const std::string* file : {&arguments->apply, &arguments->output, &arguments->screenshot})
+      command.files.push_back(*file);
     command.run = [&command, arguments]() -> int {
 #ifdef MSPLINE_HAVE_VIEWER
       const ViewArguments& a = *arguments;

@@ -60,13 +60,15 @@ void addVoronoiCommand(CLI::App& app, Command& command) {
   sub->add_flag("--json", command.json, "Print one JSON object on stdout");
   sub->callback([&command, arguments] {
     command.name = "voronoi";
+    command.files = {arguments->mesh, arguments->output, arguments->svg, arguments->png};
+    if (!isCount(arguments->sites)) command.files.push_back(arguments->sites);
     command.run = [&command, arguments] {
       const VoronoiArguments& a = *arguments;
       if (io::meshFormatFromPath(a.output) != io::MeshFormat::Obj)
         throw InputError(a.output + ": voronoi writes groups and polylines, which only OBJ holds");
       if (!a.png.empty() && (a.png.size() < 4 || a.png.compare(a.png.size() - 4, 4, ".png") != 0))
         throw InputError(a.png + ": --png writes PNG files (.png)");
-      const Progress progress = progressLines("voronoi", a.quiet);
+      const Progress progress = progressLines(command, a.quiet);
       Stopwatch clock;
       io::LoadedMesh loaded = io::loadMesh(a.mesh);
       const TriMesh& mesh = *loaded.mesh;

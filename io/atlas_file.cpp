@@ -56,7 +56,9 @@ void writeAtlas(const std::string& path, const structure::TriMesh& mesh,
                          {"cones", cones},
                          {"charts", charts},
                          {"transitions", transitions}};
-  writeFileAtomically(path, [&](std::ostream& out) { out << document.dump() << '\n'; });
+  writeFileAtomically(path, [&](std::ostream& out) {
+    out << document.dump(-1, ' ', false, Json::error_handler_t::replace) << '\n';
+  });
 }
 
 LoadedAtlas readAtlas(const std::string& path) {

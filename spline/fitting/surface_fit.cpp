@@ -89,7 +89,7 @@ Solve solveAt(const FitSpace& space, const std::vector<FacePoint>& parameters,
               std::vector<Eigen::Index>& rows) {
   Eigen::SparseMatrix<double> design = designMatrix(space, parameters, rows);
   if (rows.empty())
-    throw structure::InputError("fit: the surface is undefined at every sample's parameters");
+    throw structure::SolverError("fit: the surface is undefined at every sample's parameters");
   // Weighted least squares: rows and targets scaled by the square roots of the weights.
   Eigen::VectorXd scale = Eigen::VectorXd::Ones(Eigen::Index(rows.size()));
   if (weights.size() > 0)

@@ -65,8 +65,8 @@ struct SurfaceFitResult {
 using FitProgress = std::function<void(const std::string& stage, double fraction)>;
 
 /// Fits the surface of `space` to `targets` (one row per sample, three columns) starting from the
-/// samples' `parameters`. Throws InputError when the counts differ or no sample has a defined
-/// surface, SolverError when the system cannot be factored.
+/// samples' `parameters`. Throws InputError when the counts differ, SolverError when no sample
+/// has a defined surface or the system cannot be factored.
 SurfaceFitResult fitSurface(const FitSpace& space, const std::vector<FacePoint>& parameters,
                             const Eigen::MatrixX3d& targets, const SurfaceFitOptions& options = {},
                             const FitProgress& progress = {});

@@ -127,14 +127,14 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
   // Holes are closed by fill patches: the spline spans them (fairing, no data) and export trims
   // them away again.
   std::optional<CappedSurface> capped;
+  // No progress before flattenSurface has checked the cones and the boundary options: the first
+  // line a user sees about bad input is its error.
   if (!scanTopology.closed) {
-    report(progress, "closing " + std::to_string(scanTopology.boundaryLoops) + " holes");
     capped = capHoles(scan);
     result.filledHoles = int(capped->caps);
     addStageSeconds(result.stageSeconds, "holes", clock.lap());
   }
   const TriMesh& mesh = capped ? capped->mesh : scan;
-  report(progress, std::to_string(scan.n_vertices()) + " vertices loaded; atlas");
   FlattenOptions flattenOptions = options.flatten;
   if (options.kind != FitKind::TriBSpline) {
     // T-spline knot lines must survive chart changes (quarter-turn cones and holonomy), and a quad

@@ -1,5 +1,7 @@
 #pragma once
-// The exception hierarchy shared by every layer. The CLI maps the kind to an exit code.
+// The exception hierarchy shared by every layer. The CLI maps the kind to an exit code: what the
+// user must change in the input (InputError, TopologyError, IoError) exits 2, a computation that
+// failed on valid input (SolverError, InternalError) exits 3.
 #include <stdexcept>
 #include <string>
 
@@ -29,7 +31,8 @@ class IoError : public Error {
   using Error::Error;
 };
 
-/// A numerical computation failed (no convergence, singular system).
+/// A computation failed on valid input (no convergence, a singular system, a construction that
+/// could not be completed); what() names the stage ("cone placement: ...").
 class SolverError : public Error {
  public:
   using Error::Error;

@@ -254,8 +254,8 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
         worst = std::max(worst, std::abs(r - kQuarter * std::round(r / kQuarter)));
       }
     if (worst > options.angleTolerance)
-      throw InputError("motorcycle layout: the holonomy is not made of quarter turns (off by " +
-                       std::to_string(worst) + " rad; quantize the cones and the holonomy)");
+      throw SolverError("motorcycle layout: the holonomy is not made of quarter turns (off by " +
+                        std::to_string(worst) + " rad; quantize the cones and the holonomy)");
   }
 
   // Cones, and the traces leaving them along the axes.
@@ -273,14 +273,14 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
     if (std::abs(angle - 2.0 * kPi) <= options.coneTolerance) continue;
     const int quarterTurns = int(std::lround(angle / kQuarter));
     if (quarterTurns < 1 || std::abs(angle - quarterTurns * kQuarter) > options.angleTolerance)
-      throw InputError("motorcycle layout: vertex " + std::to_string(v.idx()) + " has cone angle " +
-                       std::to_string(angle) + ", not a multiple of pi/2");
+      throw SolverError("motorcycle layout: vertex " + std::to_string(v.idx()) +
+                        " has cone angle " + std::to_string(angle) + ", not a multiple of pi/2");
     // One trace only: both sides of it bound the same rectangle, folded around the cone, and a
     // quad grid cannot have a vertex of valence one.
     if (quarterTurns == 1)
-      throw InputError("motorcycle layout: vertex " + std::to_string(v.idx()) +
-                       " is a cone of angle pi/2 (valence one in a quad grid); place cones of "
-                       "angle at least pi there");
+      throw SolverError("motorcycle layout: vertex " + std::to_string(v.idx()) +
+                        " is a cone of angle pi/2 (valence one in a quad grid); place cones of "
+                        "angle at least pi there");
     const int node = int(d.nodes.size());
     d.nodes.push_back({v.idx(), quarterTurns});
     // Around v counter-clockwise, the corners' angles summed: trace j leaves at the first axis

@@ -77,9 +77,10 @@ struct RectanglePoint {
 class MotorcycleLayout {
  public:
   /// Traces the layout of the flat metric `lengths` (by edge index) on a closed mesh. Throws
-  /// InputError for a mesh with boundary, lengths of the wrong size, a cone angle or holonomy that
-  /// is not a multiple of pi/2, a metric without cones; SolverError when a trace does not end or
-  /// a face of the graph is not a rectangle (named, with its corner count).
+  /// InputError for a mesh with boundary, lengths of the wrong size, a metric without cones;
+  /// SolverError when a cone angle or the holonomy is not a multiple of pi/2 (the flattening
+  /// before failed to quantize them), a trace does not end or a face of the graph is not a
+  /// rectangle (named, with its corner count).
   MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& lengths,
                    const MotorcycleLayoutOptions& options = {});
   ~MotorcycleLayout();

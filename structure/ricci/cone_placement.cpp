@@ -116,9 +116,17 @@ double distortionOf(const Eigen::VectorXd& u, bool closed) {
   return closed ? (u.maxCoeff() - u.minCoeff()) / 2.0 : u.cwiseAbs().maxCoeff();
 }
 
+// A placement that cannot flatten the surface: the user's to change when the count was theirs,
+// a failure of the automatic placement otherwise.
+[[noreturn]] void failPlacement(const ConePlacementOptions& options, const std::string& message) {
+  if (options.targetCount >= 0) throw InputError(message);
+  throw SolverError(message);
+}
+
 // Largest-remainder rounding of the cone curvatures to multiples of pi/2 summing to `total`
 // quarter turns, no multiple above `largest` (at most 3: the cone angle stays positive).
-std::vector<int> roundToQuarterTurns(const std::vector<Cone>& cones, long total, int largest) {
+std::vector<int> roundToQuarterTurns(const std::vector<Cone>& cones, long total, int largest,
+                                     const ConePlacementOptions& options) {
   std::vector<int> k(cones.size());
   std::vector<double> remainder(cones.size());
   long sum = 0;
@@ -140,9 +148,9 @@ std::vector<int> roundToQuarterTurns(const std::vector<Cone>& cones, long total,
     }
   }
   if (sum != total) {
-    throw InputError("cone placement: " + std::to_string(cones.size()) +
-                     " cones cannot be quantized to multiples of pi/2 with positive angles "
-                     "summing to 2 pi chi; place more cones");
+    failPlacement(options, "cone placement: " + std::to_string(cones.size()) +
+                               " cones cannot be quantized to multiples of pi/2 with positive "
+                               "angles summing to 2 pi chi; place more cones");
   }
   return k;
 }
@@ -303,7 +311,7 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
         msg << "the cone at vertex " << worst->vertex << " would have angle "
             << 2.0 * kPi - worst->curvature << " (below " << minAngle << ")";
       }
-      throw InputError(msg.str());
+      failPlacement(options, msg.str());
     }
     message << cones.size() << " cones after " << result.distortionPerRound.size() - 1
             << " rounds (" << stop << ")";
@@ -314,7 +322,7 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
       const int largest = options.maxQuarterTurns;
       std::vector<int> k;
       if (closed) {
-        k = roundToQuarterTurns(cones, 4 * chi, largest);
+        k = roundToQuarterTurns(cones, 4 * chi, largest, options);
       } else {
         for (const Cone& c : cones)
           k.push_back(std::min(largest, static_cast<int>(std::lround(c.curvature / kQuarter))));

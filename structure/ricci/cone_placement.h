@@ -76,8 +76,8 @@ struct ConePlacementResult {
 /// Places cones on a connected triangle mesh (closed or with boundary; boundary vertices get
 /// u = 0, i.e. BoundaryCondition::FixedScale). Throws TopologyError for several components or no
 /// interior vertex, InputError for contradictory options (e.g. targetCount 0 on a sphere) and
-/// SolverError when the cotangent Laplacian cannot be factorized (e.g. the input's degenerate
-/// faces disconnect it).
+/// SolverError when the automatic placement finds no cones that flatten the surface or the
+/// cotangent Laplacian cannot be factorized (e.g. the input's degenerate faces disconnect it).
 ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& options = {});
 
 }  // namespace mspline::structure

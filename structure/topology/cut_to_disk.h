@@ -22,7 +22,7 @@ struct CutOptions {
   bool canonicalSchema = true;
   /// Whole-mesh 1-to-4 midpoint refinements allowed when the loops do not fit in the mesh.
   int maxRefinements = 3;
-  /// Give up (TopologyError) when the surface being cut would grow past maxGrowth times the
+  /// Give up (SolverError) when the surface being cut would grow past maxGrowth times the
   /// input's vertex count (at least 100000 vertices): routing 4g loops out of one vertex on a
   /// coarse mesh of high genus needs ever more edge splits.
   std::size_t maxGrowth = 64;
@@ -94,7 +94,7 @@ struct CutResult {
 };
 
 /// Cuts the surface to a disk. Throws TopologyError for empty, non-manifold or disconnected
-/// meshes and when the cut does not fit within maxRefinements refinements or maxGrowth.
+/// meshes, SolverError when the cut does not fit within maxRefinements refinements or maxGrowth.
 /// The general cut (bounded surfaces, spheres, oneVertexSchema off) runs along input edges
 /// unless a refinement was needed; the one-vertex schema always adds vertices.
 CutResult cutToDisk(const TriMesh& mesh, const CutOptions& options = {});

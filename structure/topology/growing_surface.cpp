@@ -55,18 +55,18 @@ int splitEdge(GrowingSurface& work, int a, int b) {
 
 void checkGrowth(const GrowingSurface& work) {
   if (work.surface->n_vertices() <= work.maxVertices) return;
-  throw TopologyError("the one-vertex system of loops needs more than " +
-                      std::to_string(work.maxVertices) +
-                      " vertices on this mesh (genus too high for its resolution); raise "
-                      "CutOptions::maxGrowth or cut with oneVertexSchema off");
+  throw SolverError("the one-vertex system of loops needs more than " +
+                    std::to_string(work.maxVertices) +
+                    " vertices on this mesh (genus too high for its resolution); raise "
+                    "CutOptions::maxGrowth or cut with oneVertexSchema off");
 }
 
 void refineSurface(GrowingSurface& work, std::vector<std::vector<int>>& paths) {
   if (work.refinements >= work.maxRefinements)
-    throw TopologyError("the mesh is too coarse to cut into a disk as asked even after " +
-                        std::to_string(work.refinements) +
-                        " midpoint refinements; raise CutOptions::maxRefinements (or, for the "
-                        "one-vertex schema, turn oneVertexSchema off)");
+    throw SolverError("the mesh is too coarse to cut into a disk as asked even after " +
+                      std::to_string(work.refinements) +
+                      " midpoint refinements; raise CutOptions::maxRefinements (or, for the "
+                      "one-vertex schema, turn oneVertexSchema off)");
   for (auto& path : paths) path = refinePath(*work.surface, path);
   work.surface = std::make_unique<TriMesh>(subdivideMidpoint(*work.surface));
   ++work.refinements;

@@ -39,11 +39,11 @@ struct GrowingSurface {
 /// split; returns the new vertex. The geometry does not change.
 int splitEdge(GrowingSurface& work, int a, int b);
 
-/// Throws TopologyError once the surface has grown past maxVertices.
+/// Throws SolverError once the surface has grown past maxVertices.
 void checkGrowth(const GrowingSurface& work);
 
 /// Replaces the surface by its midpoint subdivision and rewrites `paths` (vertex paths on the old
-/// surface) as the same paths on the new one. Throws TopologyError past maxRefinements.
+/// surface) as the same paths on the new one. Throws SolverError past maxRefinements.
 void refineSurface(GrowingSurface& work, std::vector<std::vector<int>>& paths);
 
 }  // namespace mspline::structure

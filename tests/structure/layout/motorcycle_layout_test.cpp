@@ -102,6 +102,9 @@ TEST_CASE("motorcycle_layout: metrics it cannot lay out are refused", "[structur
   const test::FlatMetric icosahedral = test::flatMetric(sphere, cones);
   CHECK_THROWS_WITH(MotorcycleLayout(icosahedral.surface, icosahedral.lengths),
                     Catch::Contains("quarter turns") || Catch::Contains("multiple of pi/2"));
+  // The flattening before should have quantized them: a failed computation, not bad input.
+  CHECK_THROWS_AS(MotorcycleLayout(icosahedral.surface, icosahedral.lengths),
+                  structure::SolverError);
   CHECK_THROWS_AS(MotorcycleLayout(sphere, Eigen::VectorXd::Ones(3)), structure::InputError);
   CHECK_THROWS_WITH(
       MotorcycleLayout(test::gridDisk(4),

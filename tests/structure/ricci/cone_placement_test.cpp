@@ -9,6 +9,7 @@
 #include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/core/index_map.h"
+#include "mspline/structure/mesh/polygon_soup.h"
 #include "mspline/structure/ricci/cone_file.h"
 #include "mspline/structure/ricci/cone_placement.h"
 #include "mspline/structure/ricci/curvature_target.h"
@@ -312,6 +313,21 @@ TEST_CASE("cone_placement: cone files", "[structure]") {
   SECTION("a missing file is an I/O error") {
     CHECK_THROWS_AS(structure::readConeFile(dir + "/missing.txt"), structure::IoError);
   }
+}
+
+TEST_CASE("cone_placement: automatic placement that cannot flatten is a failed computation",
+          "[structure]") {
+  // A tetrahedron: no vertex is far enough from the first cone for a second one.
+  structure::PolygonSoup soup;
+  soup.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  soup.faces = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  const TriMesh tetrahedron = structure::toTriMesh(soup);
+  CHECK_THROWS_AS(structure::placeCones(tetrahedron), structure::SolverError);
+  CHECK_THROWS_WITH(structure::placeCones(tetrahedron), Catch::Contains("cone placement"));
+  // A count the caller asked for is the caller's to change.
+  ConePlacementOptions options;
+  options.targetCount = 1;
+  CHECK_THROWS_AS(structure::placeCones(tetrahedron, options), structure::InputError);
 }
 
 TEST_CASE("cone_placement: quantized cones can be kept at angle pi or more", "[structure]") {

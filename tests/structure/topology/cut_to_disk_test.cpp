@@ -195,7 +195,7 @@ TEST_CASE("cut_to_disk: a very coarse genus-3 mesh is refined, within the allowe
   CHECK(std::count(r.inputVertex.begin(), r.inputVertex.end(), -1) > 0);
   CutOptions options;
   options.maxRefinements = 0;
-  CHECK_THROWS_AS(cutToDisk(mesh, options), structure::TopologyError);
+  CHECK_THROWS_AS(cutToDisk(mesh, options), structure::SolverError);
 }
 
 TEST_CASE("cut_to_disk: without canonical form the one-vertex schema still has 4g sides",
