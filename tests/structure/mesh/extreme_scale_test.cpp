@@ -3,10 +3,12 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <random>
 
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/flatten/flatten_surface.h"
 #include "mspline/structure/mesh/bounding_box.h"
+#include "mspline/structure/mesh/closest_point.h"
 #include "mspline/structure/mesh/cotan_laplacian.h"
 #include "mspline/structure/mesh/mesh_statistics.h"
 #include "mspline/structure/mesh/validate.h"
@@ -109,4 +111,27 @@ TEST_CASE("extreme scale: flattening at 1e150 and 1e-150 as at unit scale", "[st
     CHECK_THROWS_WITH(
         structure::flattenSurface(structure::toTriMesh(scaled(test::tetrahedronSoup(), factor))),
         unitMessage);
+}
+
+TEST_CASE("extreme scale: closest points at 1e300 and 1e-300 as at unit scale", "[structure]") {
+  const structure::PolygonSoup sphere = structure::toSoup(test::icosphere(2));
+  const std::vector<std::array<int, 3>> triangles = structure::triangleIndices(sphere);
+  const Eigen::MatrixX3d positions = structure::pointMatrix(sphere.positions);
+  const structure::TriangleMeshDistance unit(positions, triangles);
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> coordinate(-1.5, 1.5);
+  Eigen::MatrixX3d points(200, 3);
+  for (Eigen::Index i = 0; i < points.rows(); ++i)
+    for (int k = 0; k < 3; ++k) points(i, k) = coordinate(random);
+  const std::vector<structure::ClosestPoint> expected = unit.queryAll(points);
+  for (double factor : {1e300, 1e-300}) {
+    INFO("scale " << factor);
+    const structure::TriangleMeshDistance scaledMesh(positions * factor, triangles);
+    const std::vector<structure::ClosestPoint> found = scaledMesh.queryAll(points * factor);
+    for (std::size_t i = 0; i < found.size(); ++i) {
+      // Up to the rounding of the scaled coordinates (1e300 is no power of two).
+      CHECK(found[i].distance / factor == Approx(expected[i].distance).margin(1e-14));
+      CHECK((found[i].closest / factor - expected[i].closest).norm() <= 1e-14);
+    }
+  }
 }
