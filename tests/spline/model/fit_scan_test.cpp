@@ -147,7 +147,7 @@ TEST_CASE("fit_scan: the same fit at any unit", "[spline]") {
   for (const spline::FitKind kind : {spline::FitKind::TriBSpline, spline::FitKind::TSpline}) {
     const spline::FitOptions options = fitOptions(kind, 400, 3e-3, 1, 1);
     const spline::FitResult unit = spline::fitScan(knot, options);
-    for (const double factor : {1e6, 1e12}) {
+    for (const double factor : {1e-6, 1e6, 1e12}) {
       INFO(spline::fitKindName(kind) << " at scale " << factor);
       structure::TriMesh scaled = knot;
       for (const auto v : scaled.vertices()) scaled.set_point(v, scaled.point(v) * factor);
