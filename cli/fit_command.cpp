@@ -165,6 +165,8 @@ void addFitCommand(CLI::App& app, Command& command) {
                   {"max_error_wanted", options.maxErrorFactor * options.tolerance},
                   {"reached_tolerance", fit.reachedTolerance},
                   {"within_budget", fit.withinBudget},
+                  {"max_control", options.maxControl},
+                  {"warnings", fit.warnings},
                   {"rounds", fit.rounds.size()},
                   {"correction_rounds", fit.correctionRounds},
                   {"refinement", roundsJson(fit, options.kind)},

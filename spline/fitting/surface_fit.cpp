@@ -307,7 +307,8 @@ SurfaceProjection projectOntoSurface(const FitSpace& space, const Eigen::MatrixX
         const double gain = current.distance - distance;
         current = {trial, distance};
         jet = trialJet;
-        if (gain <= 1e-13 * (1.0 + distance)) return current;
+        // A gain at the rounding of the positions (relative to their magnitude, any unit).
+        if (gain <= 1e-13 * (target.norm() + distance)) return current;
       }
     }
     if (!improved) break;

@@ -49,7 +49,8 @@ TorusTMesh torusTMesh(const structure::FlatLayout& layout, const TorusTMeshOptio
   TorusTMesh torus;
   Eigen::Vector2d a = layout.periods[0], b = layout.periods[1];
   const double area = std::abs(cross(a, b));
-  if (!(area > 1e-12 * a.squaredNorm() * b.squaredNorm()) || !std::isfinite(area))
+  // The sine of the angle between the periods, free of the layout's unit.
+  if (!(area > 1e-12 * a.norm() * b.norm()) || !std::isfinite(area))
     throw InputError("torus T-mesh: the periods are degenerate");
   reduceBasis(a, b);
   if (cross(a, b) < 0.0) b = -b;  // keep the orientation, so the grid's faces face outward

@@ -25,7 +25,9 @@ namespace {
 void reduceLatticeBasis(std::array<Eigen::Vector2d, 2>& basis) {
   auto& [a, b] = basis;
   if (a.squaredNorm() > b.squaredNorm()) std::swap(a, b);
-  for (;;) {
+  // Each swap shrinks |a| (Gauss reduction ends in a few steps); the bound ends it on degenerate
+  // or non-finite periods, where the comparison below never holds.
+  for (int iteration = 0; iteration < 200; ++iteration) {
     const double m = std::round(a.dot(b) / a.squaredNorm());
     b -= m * a;
     if (b.squaredNorm() >= a.squaredNorm()) return;

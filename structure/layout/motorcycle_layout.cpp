@@ -480,6 +480,9 @@ std::optional<RectanglePoint> MotorcycleLayout::Data::walk(int f, Eigen::Vector2
                                                            Eigen::Vector2d direction) const {
   const Data& d = *this;
   double travelled = 0.0;
+  // The distance bound ends every walk that moves; crossings without moving (through a vertex)
+  // end after visiting every face.
+  std::size_t standing = 0;
   for (;;) {
     const Data::Exit exit = d.exitOf(f, p, direction);
     if (exit.edge < 0) return std::nullopt;
@@ -521,8 +524,10 @@ std::optional<RectanglePoint> MotorcycleLayout::Data::walk(int f, Eigen::Vector2
           point.position.cwiseMax(Eigen::Vector2d::Zero()).cwiseMin(Eigen::Vector2d(w, h));
       return point;
     }
-    travelled += (exit.point - p).norm();
-    if (travelled > 100.0 * d.scale) return std::nullopt;
+    const double step = (exit.point - p).norm();
+    travelled += step;
+    standing = step > 0.0 ? 0 : standing + 1;
+    if (travelled > 100.0 * d.scale || standing > d.faces.size()) return std::nullopt;
     const Motion& m = d.faces[std::size_t(f)].across[std::size_t(exit.edge)];
     p = m.apply(exit.point);
     direction = (m.rotation * direction).normalized();

@@ -1,12 +1,14 @@
 #include "mspline/structure/mesh/bounding_box.h"
 
+#include "mspline/structure/core/exact_scale.h"
 #include "mspline/structure/mesh/polygon_soup.h"
 
 namespace mspline::structure {
 
 double boundingBoxDiagonal(const Eigen::MatrixX3d& points) {
   if (points.rows() == 0) return 0.0;
-  return (points.colwise().maxCoeff() - points.colwise().minCoeff()).norm();
+  const Eigen::RowVector3d extent = points.colwise().maxCoeff() - points.colwise().minCoeff();
+  return exactScaledNorm(extent[0], extent[1], extent[2]);
 }
 
 double boundingBoxDiagonal(const std::vector<std::array<double, 3>>& points) {

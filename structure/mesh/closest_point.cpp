@@ -10,6 +10,7 @@
 #include <nanoflann.hpp>
 
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/core/exact_scale.h"
 
 namespace mspline::structure {
 
@@ -19,9 +20,12 @@ using Eigen::Vector3d;
 
 // The closest point to p on segment [a, b], as the parameter t of a + t (b - a).
 double segmentParameter(const Vector3d& p, const Vector3d& a, const Vector3d& b) {
-  const Vector3d d = b - a;
+  // A ratio of products of two lengths, on vectors scaled by a power of two (exact).
+  const double scale =
+      exactUnitScale(std::max((b - a).cwiseAbs().maxCoeff(), (p - a).cwiseAbs().maxCoeff()));
+  const Vector3d d = (b - a) * scale;
   const double length2 = d.squaredNorm();
-  return length2 > 0.0 ? std::clamp((p - a).dot(d) / length2, 0.0, 1.0) : 0.0;
+  return length2 > 0.0 ? std::clamp(((p - a) * scale).dot(d) / length2, 0.0, 1.0) : 0.0;
 }
 
 // nanoflann's view of the centroid matrix.
@@ -49,14 +53,20 @@ ClosestPoint closestPointOnTriangle(const Vector3d& p, const Vector3d& a, const 
   const auto result = [&](double u, double v, double w) {
     out.barycentric = Vector3d(u, v, w);
     out.closest = u * a + v * b + w * c;
-    out.distance = (p - out.closest).norm();
+    const Vector3d offset = p - out.closest;
+    out.distance = exactScaledNorm(offset.x(), offset.y(), offset.z());
     return out;
   };
-  // Ericson's Voronoi region tests: the corners, then the edges, then the inside.
-  const Vector3d ab = b - a, ac = c - a, ap = p - a;
+  // Ericson's Voronoi region tests: the corners, then the edges, then the inside. They multiply
+  // four lengths: computed on differences scaled by a power of two (exact, so the same answers),
+  // they neither overflow nor underflow at any unit.
+  const double scale =
+      exactUnitScale(std::max({(b - a).cwiseAbs().maxCoeff(), (c - a).cwiseAbs().maxCoeff(),
+                               (p - a).cwiseAbs().maxCoeff()}));
+  const Vector3d ab = (b - a) * scale, ac = (c - a) * scale, ap = (p - a) * scale;
   const double d1 = ab.dot(ap), d2 = ac.dot(ap);
   if (d1 <= 0.0 && d2 <= 0.0) return result(1.0, 0.0, 0.0);
-  const Vector3d bp = p - b;
+  const Vector3d bp = (p - b) * scale;
   const double d3 = ab.dot(bp), d4 = ac.dot(bp);
   if (d3 >= 0.0 && d4 <= d3) return result(0.0, 1.0, 0.0);
   const double vc = d1 * d4 - d3 * d2;
@@ -64,7 +74,7 @@ ClosestPoint closestPointOnTriangle(const Vector3d& p, const Vector3d& a, const 
     const double v = d1 / (d1 - d3);
     return result(1.0 - v, v, 0.0);
   }
-  const Vector3d cp = p - c;
+  const Vector3d cp = (p - c) * scale;
   const double d5 = ab.dot(cp), d6 = ac.dot(cp);
   if (d6 >= 0.0 && d5 <= d6) return result(0.0, 0.0, 1.0);
   const double vb = d5 * d2 - d1 * d6;
@@ -118,9 +128,13 @@ TriangleMeshDistance::TriangleMeshDistance(Eigen::MatrixX3d positions,
       centroid += positions_.row(v).transpose() / 3.0;
     }
     centroids_.row(Eigen::Index(f)) = centroid.transpose();
-    for (int v : triangles_[f])
-      reach_ = std::max(reach_, (positions_.row(v).transpose() - centroid).norm());
+    for (int v : triangles_[f]) {
+      const Vector3d offset = positions_.row(v).transpose() - centroid;
+      reach_ = std::max(reach_, exactScaledNorm(offset.x(), offset.y(), offset.z()));
+    }
   }
+  centroidScale_ = exactUnitScale(centroids_.cwiseAbs().maxCoeff());
+  centroids_ *= centroidScale_;
   tree_ = std::make_unique<Tree>(centroids_);
 }
 
@@ -137,19 +151,20 @@ ClosestPoint TriangleMeshDistance::query(const Vector3d& p) const {
     c.face = f;
     return c;
   };
+  const Vector3d scaled = p * centroidScale_;
   std::uint32_t nearest = 0;
   double nearestDistance2 = 0.0;
-  tree_->index.knnSearch(p.data(), 1, &nearest, &nearestDistance2);
+  tree_->index.knnSearch(scaled.data(), 1, &nearest, &nearestDistance2);
   ClosestPoint best = exact(int(nearest));
   // Rounding in the tree's squared distances must not drop a candidate at the radius.
-  const double radius = (best.distance + reach_) * (1.0 + 1e-12) + 1e-300;
+  const double radius = ((best.distance + reach_) * (1.0 + 1e-12) + 1e-300) * centroidScale_;
   std::vector<std::pair<std::uint32_t, double>> candidates;
-  tree_->index.radiusSearch(p.data(), radius * radius, candidates,
+  tree_->index.radiusSearch(scaled.data(), radius * radius, candidates,
                             nanoflann::SearchParams(0, 0.0f, false));
   for (const auto& candidate : candidates) {
     if (int(candidate.first) == best.face) continue;
     // Centroid distance minus reach bounds the triangle's distance from below.
-    if (std::sqrt(candidate.second) - reach_ > best.distance) continue;
+    if (std::sqrt(candidate.second) / centroidScale_ - reach_ > best.distance) continue;
     const ClosestPoint c = exact(int(candidate.first));
     if (c.distance < best.distance) best = c;
   }

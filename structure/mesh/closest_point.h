@@ -53,7 +53,10 @@ class TriangleMeshDistance {
   struct Tree;
   Eigen::MatrixX3d positions_;
   std::vector<std::array<int, 3>> triangles_;
+  // The centroids times centroidScale_, a power of two (exact) that keeps the tree's squared
+  // distances finite and normal at any unit.
   Eigen::MatrixX3d centroids_;
+  double centroidScale_ = 1.0;
   double reach_ = 0.0;  // largest centroid-to-corner distance
   std::unique_ptr<Tree> tree_;
 };

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/core/exact_scale.h"
 
 namespace mspline::structure {
 
@@ -18,7 +19,10 @@ Eigen::SparseMatrix<double> cotanLaplacian(const TriMesh& mesh) {
       auto a = mesh.point(mesh.from_vertex_handle(h));
       auto b = mesh.point(mesh.to_vertex_handle(h));
       auto c = mesh.point(mesh.to_vertex_handle(mesh.next_halfedge_handle(h)));
-      auto u = a - c, v = b - c;
+      // A cotangent has no unit: computed on edges scaled by a power of two (exact, so the same
+      // bits at an ordinary unit), it neither overflows nor underflows at any unit.
+      const double scale = exactUnitScale(std::max((a - c).max_abs(), (b - c).max_abs()));
+      const auto u = (a - c) * scale, v = (b - c) * scale;
       double doubleArea = OpenMesh::cross(u, v).norm();
       if (!(doubleArea > 0))
         throw InputError("cotangent Laplacian: face " + std::to_string(f.idx()) + " has zero area");

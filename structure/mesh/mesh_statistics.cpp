@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "mspline/structure/core/constants.h"
+#include "mspline/structure/core/exact_scale.h"
 
 namespace mspline::structure {
 
@@ -22,12 +23,15 @@ MeshStatistics meshStatistics(const TriMesh& mesh) {
       stats.bboxMax.maximize(p);
     }
   }
-  stats.bboxDiagonal = (stats.bboxMax - stats.bboxMin).norm();
+  const OpenMesh::Vec3d extent = stats.bboxMax - stats.bboxMin;
+  stats.bboxDiagonal = exactScaledNorm(extent[0], extent[1], extent[2]);
 
   if (mesh.n_edges() > 0) {
     stats.minEdgeLength = std::numeric_limits<double>::infinity();
     for (const auto e : mesh.edges()) {
-      const double length = mesh.calc_edge_length(e);
+      OpenMesh::Vec3d edge;
+      mesh.calc_edge_vector(e, edge);
+      const double length = exactScaledNorm(edge[0], edge[1], edge[2]);
       stats.minEdgeLength = std::min(stats.minEdgeLength, length);
       stats.maxEdgeLength = std::max(stats.maxEdgeLength, length);
     }
@@ -42,11 +46,16 @@ MeshStatistics meshStatistics(const TriMesh& mesh) {
     const OpenMesh::Vec3d p[3] = {mesh.point(mesh.from_vertex_handle(h0)),
                                   mesh.point(mesh.from_vertex_handle(h1)),
                                   mesh.point(mesh.to_vertex_handle(h1))};
-    const OpenMesh::Vec3d normal = OpenMesh::cross(p[1] - p[0], p[2] - p[0]);
+    // Angles on edges scaled by a power of two (exact): the products below neither overflow nor
+    // underflow at any unit, and the area is scaled back.
+    const double scale =
+        exactUnitScale(std::max({(p[1] - p[0]).max_abs(), (p[2] - p[0]).max_abs()}));
+    const OpenMesh::Vec3d normal = OpenMesh::cross((p[1] - p[0]) * scale, (p[2] - p[0]) * scale);
     const double twiceArea = normal.norm();
-    stats.area += 0.5 * twiceArea;
+    stats.area += 0.5 * twiceArea / scale / scale;
     for (int k = 0; k < 3; ++k) {
-      const OpenMesh::Vec3d a = p[(k + 1) % 3] - p[k], b = p[(k + 2) % 3] - p[k];
+      const OpenMesh::Vec3d a = (p[(k + 1) % 3] - p[k]) * scale,
+                            b = (p[(k + 2) % 3] - p[k]) * scale;
       // atan2 stays accurate for angles near 0 and 180 degrees, where acos of the cosine does not;
       // |a x b| equals twice the area at every corner.
       angles.push_back(std::atan2(twiceArea, OpenMesh::dot(a, b)) * kDegrees);

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/core/exact_scale.h"
 #include "mspline/structure/core/min_union_find.h"
 
 namespace mspline::structure {
@@ -337,21 +338,29 @@ bool isDegenerateFace(const PolygonSoup& soup, std::size_t face, double toleranc
     for (double x : soup.positions[static_cast<std::size_t>(v)])
       if (!std::isfinite(x)) return false;
 
+  // Coordinates relative to the first vertex, scaled by a power of two to magnitude ~1: the
+  // answer does not depend on the unit and squares neither overflow nor underflow (1e+-300).
+  const auto& p0 = soup.positions[static_cast<std::size_t>(vs[0])];
+  double extent = 0.0;
+  for (std::int64_t v : vs)
+    for (int k = 0; k < 3; ++k)
+      extent = std::max(extent, std::abs(soup.positions[static_cast<std::size_t>(v)][k] - p0[k]));
+  const double scale = exactUnitScale(extent);
+  auto scaledDifference = [scale](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+    return std::array<double, 3>{(a[0] - b[0]) * scale, (a[1] - b[1]) * scale,
+                                 (a[2] - b[2]) * scale};
+  };
   // Newell normal as a sum of cross products from the first vertex: for a triangle it is the
   // plain cross product, whose length is twice the area without cancellation.
-  const auto& p0 = soup.positions[static_cast<std::size_t>(vs[0])];
-  auto minus = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
-    return std::array<double, 3>{a[0] - b[0], a[1] - b[1], a[2] - b[2]};
-  };
   std::array<double, 3> normal{0.0, 0.0, 0.0};
   double longest2 = 0.0;
   for (std::size_t i = 0; i < vs.size(); ++i) {
     const auto& p = soup.positions[static_cast<std::size_t>(vs[i])];
     const auto& q = soup.positions[static_cast<std::size_t>(vs[(i + 1) % vs.size()])];
-    const auto e = minus(q, p);
+    const auto e = scaledDifference(q, p);
     longest2 = std::max(longest2, e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
     if (i == 0 || i + 1 == vs.size()) continue;
-    const auto a = minus(p, p0), b = minus(q, p0);
+    const auto a = scaledDifference(p, p0), b = scaledDifference(q, p0);
     normal[0] += a[1] * b[2] - a[2] * b[1];
     normal[1] += a[2] * b[0] - a[0] * b[2];
     normal[2] += a[0] * b[1] - a[1] * b[0];

@@ -5,6 +5,7 @@
 
 #include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/core/exact_scale.h"
 
 namespace mspline::structure {
 
@@ -227,7 +228,10 @@ std::array<double, 3> triangleAngles(double a, double b, double c) {
   if (side[order[0]] < side[order[1]]) std::swap(order[0], order[1]);
   if (side[order[1]] < side[order[2]]) std::swap(order[1], order[2]);
   if (side[order[0]] < side[order[1]]) std::swap(order[0], order[1]);
-  const double x = side[order[0]], y = side[order[1]], z = side[order[2]];
+  // Angles have no unit: sides scaled by a power of two (exact) keep the products below finite
+  // and normal at any unit.
+  const double unit = exactUnitScale(side[order[0]]);
+  const double x = side[order[0]] * unit, y = side[order[1]] * unit, z = side[order[2]] * unit;
   std::array<double, 3> angle{};
   const double px = z - (x - y);  // y + z - x
   if (px < 0.0) {
@@ -247,7 +251,11 @@ std::array<double, 3> triangleAngles(double a, double b, double c) {
 
 Eigen::VectorXd edgeLengths(const TriMesh& mesh) {
   Eigen::VectorXd lengths(static_cast<Eigen::Index>(mesh.n_edges()));
-  for (const auto e : mesh.edges()) lengths[e.idx()] = mesh.calc_edge_length(e);
+  OpenMesh::Vec3d edge;
+  for (const auto e : mesh.edges()) {
+    mesh.calc_edge_vector(e, edge);
+    lengths[e.idx()] = exactScaledNorm(edge[0], edge[1], edge[2]);
+  }
   return lengths;
 }
 
@@ -361,7 +369,9 @@ Eigen::SparseMatrix<double> vertexScalingHessian(const TriMesh& mesh,
   std::vector<double> weight(mesh.n_edges(), 0.0);
   for (const auto f : mesh.faces()) {
     const FaceSides s = faceSides(mesh, f, inputLengths, u);
-    const auto& l = s.length;
+    // A cotangent has no unit: computed on sides scaled by a power of two (exact).
+    const double unit = exactUnitScale(std::max({s.length[0], s.length[1], s.length[2]}));
+    const std::array<double, 3> l = {s.length[0] * unit, s.length[1] * unit, s.length[2] * unit};
     const double area4 = fourTimesArea(l[0], l[1], l[2]);
     if (area4 == 0.0) continue;
     for (int k = 0; k < 3; ++k) {
@@ -377,8 +387,12 @@ double fourTimesArea(double a, double b, double c) {
   if (a < b) std::swap(a, b);
   if (a < c) std::swap(a, c);
   if (b < c) std::swap(b, c);
+  // The product of four lengths, on sides scaled by a power of two (exact) so that it neither
+  // overflows nor underflows; the area is scaled back.
+  const double unit = exactUnitScale(a);
+  a *= unit, b *= unit, c *= unit;
   const double p = (a + (b + c)) * (c - (a - b)) * (c + (a - b)) * (a + (b - c));
-  return p > 0.0 ? std::sqrt(p) : 0.0;
+  return p > 0.0 ? std::sqrt(p) / unit / unit : 0.0;
 }
 
 }  // namespace mspline::structure

@@ -117,6 +117,24 @@ TEST_CASE("fit: an unreachable tolerance warns and still writes the best model",
   CHECK(fs::exists(model));
 }
 
+TEST_CASE("fit: a budget that cannot be met ends, and says so", "[cli]") {
+  // The smallest budget: the sphere's cones kept apart need 16 domain faces (160 control points).
+  // This once rebuilt the same domain forever.
+  const std::string dir = test::scratchDirectory("cli_fit_budget");
+  const auto result = runCommand(cliPath() + " fit " + realMeshPath("sphere.off") + " -o " + dir +
+                                 "/sphere.msp --kind tribspline --max-control 50 --json");
+  INFO(result.err);
+  CHECK(result.exitCode == 0);
+  CHECK(result.err.find("warning: 160 control points, over the budget of 50") != std::string::npos);
+  const auto fit = nlohmann::json::parse(result.out);
+  CHECK_FALSE(fit["within_budget"].get<bool>());
+  CHECK(fit["max_control"] == 50);
+  CHECK(fit["control_points"] == 160);
+  REQUIRE(fit["warnings"].is_array());
+  CHECK(fit["warnings"][0].get<std::string>().find("over the budget of 50") != std::string::npos);
+  CHECK(fs::exists(dir + "/sphere.msp"));
+}
+
 TEST_CASE("fit: bad arguments leave no model", "[cli]") {
   const std::string dir = test::scratchDirectory("cli_fit_bad");
   const auto kind = runCommand(cliPath() + " fit " + realMeshPath("knot1.off") + " -o " + dir +

@@ -1,7 +1,9 @@
 // `mspline info` on real meshes reports the topology the acceptance criteria name.
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "mspline/io/read_mesh.h"
 #include "mspline/io/write_mesh.h"
@@ -37,6 +39,7 @@ TEST_CASE("info: genus and boundaries of real meshes", "[cli]") {
     CHECK(info["boundaries"] == expected.boundaries);
     CHECK(info["components"] == 1);
     CHECK(info["closed"] == (expected.boundaries == 0));
+    CHECK(info["valid"] == true);
     CHECK(info["problems"].empty());
     // Euler's formula ties the reported numbers together.
     long v = info["vertices"], e = info["edges"], f = info["faces"];
@@ -121,4 +124,22 @@ TEST_CASE("info: figures an invalid mesh cannot have are unknown, with the defec
   CHECK(two["genus"] == 0);
   CHECK_FALSE(two.contains("topology_unknown_because"));
   CHECK(two["error"]["message"].get<std::string>().find("2 components") != std::string::npos);
+}
+
+TEST_CASE("info: a tetrahedron at 1e300 or 1e-300 is valid", "[cli]") {
+  const std::string dir = mspline::test::scratchDirectory("cli_info_scale");
+  for (const char* scale : {"1e300", "1e-300"}) {
+    INFO(scale);
+    const std::string path = dir + "/tet-" + scale + ".off";
+    std::ofstream(path) << "OFF\n4 4 0\n0 0 0\n"
+                        << scale << " 0 0\n0 " << scale << " 0\n0 0 " << scale
+                        << "\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    const nlohmann::json info = mspline::test::runJson("info " + path);
+    CHECK(info["valid"] == true);
+    CHECK(info["problems"].empty());
+    CHECK(info["genus"] == 0);
+    CHECK(info["bbox_diagonal"].get<double>() ==
+          Approx(std::sqrt(3.0) * std::stod(scale)).epsilon(1e-15));
+    CHECK(info["min_angle_degrees"].get<double>() == Approx(45.0).epsilon(1e-12));
+  }
 }

@@ -129,3 +129,38 @@ TEST_CASE("fit_scan: a model is measured only against the scan it was fitted to"
   CHECK_THROWS_AS(spline::parseFitKind("nurbs"), structure::InputError);
   CHECK(spline::parseFitKind("subd") == spline::FitKind::Subd);
 }
+
+TEST_CASE("fit_scan: the smallest budget on a sphere ends, reported over budget", "[spline]") {
+  // Its cones kept apart need 16 domain faces (160 control points): the budget of 50 cannot be
+  // met, which once rebuilt the same domain forever.
+  const spline::FitOptions options = fitOptions(spline::FitKind::TriBSpline, 50, 1e-3, 1);
+  const spline::FitResult fit = checkedFit("sphere.off", options);
+  CHECK_FALSE(fit.withinBudget);
+  CHECK(fit.model.controlPoints.rows() > 50);
+  CHECK(int(fit.rounds.size()) <= options.maxRefinements + 1);
+  REQUIRE_FALSE(fit.warnings.empty());
+  CHECK(fit.warnings.front().find("over the budget of 50") != std::string::npos);
+}
+
+TEST_CASE("fit_scan: the same fit at any unit", "[spline]") {
+  const structure::TriMesh knot = test::realMesh("knot1.off");
+  for (const spline::FitKind kind : {spline::FitKind::TriBSpline, spline::FitKind::TSpline}) {
+    const spline::FitOptions options = fitOptions(kind, 400, 3e-3, 1, 1);
+    const spline::FitResult unit = spline::fitScan(knot, options);
+    for (const double factor : {1e-6, 1e6, 1e12}) {
+      INFO(spline::fitKindName(kind) << " at scale " << factor);
+      structure::TriMesh scaled = knot;
+      for (const auto v : scaled.vertices()) scaled.set_point(v, scaled.point(v) * factor);
+      const spline::FitResult fit = spline::fitScan(scaled, options);
+      CHECK(fit.model.controlPoints.rows() == unit.model.controlPoints.rows());
+      CHECK(fit.rounds.size() == unit.rounds.size());
+      // Relative errors equal up to the rounding of the scaled coordinates; control points in
+      // the caller's unit.
+      CHECK(fit.errors.rms == Approx(unit.errors.rms).epsilon(1e-7));
+      CHECK(fit.errors.max == Approx(unit.errors.max).epsilon(1e-7));
+      CHECK(fit.errors.rmsSurfaceToScan == Approx(unit.errors.rmsSurfaceToScan).epsilon(1e-7));
+      CHECK((fit.model.controlPoints / factor - unit.model.controlPoints).cwiseAbs().maxCoeff() <=
+            1e-6 * fit.errors.diagonal / factor);
+    }
+  }
+}
