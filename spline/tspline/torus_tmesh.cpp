@@ -13,6 +13,7 @@
 namespace mspline::spline {
 
 using structure::InputError;
+using structure::SolverError;
 
 namespace {
 
@@ -51,7 +52,7 @@ TorusTMesh torusTMesh(const structure::FlatLayout& layout, const TorusTMeshOptio
   const double area = std::abs(cross(a, b));
   // The sine of the angle between the periods, free of the layout's unit.
   if (!(area > 1e-12 * a.norm() * b.norm()) || !std::isfinite(area))
-    throw InputError("torus T-mesh: the periods are degenerate");
+    throw SolverError("torus T-mesh: the periods are degenerate");
   reduceBasis(a, b);
   if (cross(a, b) < 0.0) b = -b;  // keep the orientation, so the grid's faces face outward
   const double cell = std::sqrt(area / std::max(16, options.targetCells));
