@@ -5,6 +5,7 @@
 #include "cli/command.h"
 #include "cli/flatten_options.h"
 #include "mspline/io/atlas_file.h"
+#include "mspline/io/atomic_file.h"
 #include "mspline/io/load_mesh.h"
 #include "mspline/structure/atlas/affine_atlas.h"
 #include "mspline/structure/core/errors.h"
@@ -83,7 +84,10 @@ void addAtlasCommand(CLI::App& app, Command& command) {
                            {"flipped_triangles", flat["flipped_triangles"]}};
       if (flat.contains("holonomy")) report["flatten"]["holonomy"] = flat["holonomy"];
       if (a.check) {
-        const io::LoadedAtlas back = io::readAtlas(a.output);
+        // The file as written, not yet under its name (outputs are named when the command ends).
+        const io::OutputBatch* outputs = io::OutputBatch::current();
+        const io::LoadedAtlas back =
+            io::readAtlas(outputs ? outputs->readablePath(a.output) : a.output);
         const bool identical = back.mesh.n_faces() == flattening.surface().n_faces() &&
                                identicalAtlases(back.atlas, atlas);
         report["check"] = atlasFigures(back.atlas);

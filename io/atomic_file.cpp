@@ -188,6 +188,15 @@ OutputBatch* OutputBatch::current() { return innermostBatch; }
 
 void OutputBatch::stage(StagedFile file) { staged_.push_back(std::move(file)); }
 
+std::string OutputBatch::readablePath(const std::string& target) const {
+  const std::string resolved = resolveLinks(target).string();
+  for (auto file = staged_.rbegin(); file != staged_.rend(); ++file)
+    if (file->target == resolved)
+      return file->temporary.empty() ? "/proc/self/fd/" + std::to_string(file->descriptor)
+                                     : file->temporary;
+  return outer_ ? outer_->readablePath(target) : target;
+}
+
 void OutputBatch::commit() {
   if (outer_) {
     for (StagedFile& file : staged_) outer_->stage(file);

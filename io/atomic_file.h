@@ -32,6 +32,10 @@ class OutputBatch {
   /// Takes ownership of a finished file (used by writeFileAtomically).
   void stage(StagedFile file);
 
+  /// A path to read what this batch or an outer one holds for `target` before the commit (the
+  /// staged file, through /proc/self/fd); `target` itself when nothing is staged for it.
+  std::string readablePath(const std::string& target) const;
+
  private:
   std::vector<StagedFile> staged_;
   OutputBatch* outer_;

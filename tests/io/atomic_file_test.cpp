@@ -178,3 +178,15 @@ TEST_CASE("atomic_file: temporaries named by a process that is gone are removed"
   CHECK(fs::exists(other));
   CHECK(mspline::test::fileText(dir + "/out.txt") == "new");
 }
+
+TEST_CASE("atomic_file: a batch's file can be read before it is named", "[io]") {
+  std::string dir = mspline::test::scratchDirectory("atomic_file_readable");
+  const std::string path = dir + "/out.txt";
+  OutputBatch batch;
+  CHECK(batch.readablePath(path) == path);
+  writeText(path, "staged");
+  CHECK(!fs::exists(path));
+  CHECK(mspline::test::fileText(batch.readablePath(path)) == "staged");
+  batch.commit();
+  CHECK(mspline::test::fileText(path) == "staged");
+}
