@@ -33,6 +33,9 @@ struct Command {
   std::function<int()> run;
   /// With --json: what a failing command had found before it failed; main adds "error" to it.
   Json partialResult;
+  /// Whether the command's output files are named together when it succeeds (io::OutputBatch);
+  /// false for the interactive viewer, whose saves and autosaves must land when they are made.
+  bool outputsTogether = true;
   /// The stage running (the last progress message, quiet or not): named when memory runs out.
   std::string stage;
   /// Warnings and repair notes for stderr, printed by main after the command's outcome so that

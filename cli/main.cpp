@@ -3,6 +3,7 @@
 #include <cstring>
 #include <iostream>
 #include <new>
+#include <optional>
 
 #include "cli/command.h"
 #include "mspline/io/atomic_file.h"
@@ -53,9 +54,10 @@ int runCommand(Command& command) {
   using namespace structure;
   try {
     // A command's outputs replace their targets together, once it has succeeded.
-    io::OutputBatch outputs;
+    std::optional<io::OutputBatch> outputs;
+    if (command.outputsTogether) outputs.emplace();
     const int code = command.run();
-    outputs.commit();
+    if (outputs) outputs->commit();
     printNotes(command);
     return code;
   } catch (const IoError& e) {

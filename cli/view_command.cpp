@@ -80,6 +80,7 @@ void addViewCommand(CLI::App& app, Command& command) {
   sub->add_flag("--json", command.json, "Print one JSON object on stdout");
   sub->callback([&command, arguments] {
     command.name = "view";
+    command.outputsTogether = false;
     command.files = arguments->files;
     for (const std::string* file : {&arguments->apply, &arguments->output, &arguments->screenshot})
       command.files.push_back(*file);
