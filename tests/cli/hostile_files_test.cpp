@@ -68,6 +68,35 @@ TEST_CASE(
   }
 }
 
+// Found by fuzz_model: a knot far outside the domain's grid overflowed an int in the DMS space's
+// neighbourhood search (undefined behaviour, reported by UBSan in the sanitized build).
+TEST_CASE("hostile_files: check and export take a model with a knot far away", "[cli]") {
+  const std::string dir = mspline::test::scratchDirectory("hostile_files_knot");
+  const std::string good = dir + "/good.msp";
+  REQUIRE(runCommand(cliPath() + " spline " + mspline::test::realMeshPath("torus_quad.off") +
+                     " --control 20 -q -o " + good)
+              .exitCode == 0);
+  const auto model = mspline::io::readSplineModel(good);
+  REQUIRE(model.surfaceFaceFilled.empty());
+  // The sections before the knots (io/spline_model_file.h), then knot 1 of corner 0 of face 0.
+  const std::size_t vertices = std::size_t(model.surfaceVertices.rows());
+  const std::size_t knots = 16 + 4 + 24 * vertices + 4 + 12 * model.surfaceFaces.size() + 4 +
+                            28 * vertices + 4 + 5 * model.domain.cone.size() + 4 +
+                            51 * model.domain.faces.size() + 4;
+  std::string bytes = mspline::test::fileText(good);
+  const double far = -3.36e58;
+  std::memcpy(&bytes[knots + 16], &far, 8);
+  const std::string path = writeBytes(dir + "/far.msp", bytes);
+  REQUIRE(mspline::io::readSplineModel(path).knots[0][0][1].x() == far);
+  for (const std::string command :
+       {"check " + path, "export " + path + " -o " + dir + "/out.obj"}) {
+    const auto result = runCommand(cliPath() + " " + command);
+    INFO(command << "\nstderr: " << result.err);
+    CHECK(result.exitCode >= 0);  // no signal
+    CHECK(result.exitCode != 1);
+  }
+}
+
 TEST_CASE("hostile_files: export --error-map refuses a scan with a NaN vertex", "[cli]") {
   const std::string dir = mspline::test::scratchDirectory("hostile_files_scan");
   const std::string model = dir + "/model.msp";
