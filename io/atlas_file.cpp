@@ -1,12 +1,12 @@
 #include "mspline/io/atlas_file.h"
 
-#include <fstream>
-#include <sstream>
+#include <cstdint>
 
 #include <nlohmann/json.hpp>
 
 #include "mspline/io/atomic_file.h"
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/core/whole_file.h"
 
 namespace mspline::io {
 
@@ -62,16 +62,35 @@ void writeAtlas(const std::string& path, const structure::TriMesh& mesh,
 }
 
 LoadedAtlas readAtlas(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw structure::IoError(path + ": cannot open the atlas file");
+  return parseAtlas(structure::readWholeFile(path), path);
+}
+
+LoadedAtlas parseAtlas(std::string_view text, const std::string& sourceName) {
+  const std::string& path = sourceName;
   Json document;
   try {
-    document = Json::parse(in);
+    document = Json::parse(text);
   } catch (const Json::exception& error) {
     throw InputError(path + ": not a JSON atlas file (" + error.what() + ")");
   }
   const auto fail = [&](const std::string& problem) {
     return InputError(path + ": not a valid atlas: " + problem);
+  };
+  // JSON may hold a string where a number belongs, and a string, a fraction, a negative or a huge
+  // number where an index does (its numbers are finite: the parser refuses "1e999").
+  const auto number = [&](const Json& value, const std::string& what) {
+    if (!value.is_number()) throw fail(what + " is not a number");
+    return value.get<double>();
+  };
+  const auto index = [&](const Json& value, std::size_t count, const std::string& what,
+                         const char* noun) {
+    if (!value.is_number_integer()) throw fail(what + " names a " + noun + " that is no index");
+    const bool inRange =
+        value.is_number_unsigned()
+            ? value.get<std::uint64_t>() < count
+            : value.get<std::int64_t>() >= 0 && std::uint64_t(value.get<std::int64_t>()) < count;
+    if (!inRange) throw fail(what + " names " + noun + " " + value.dump());
+    return value.get<int>();
   };
   LoadedAtlas out;
   try {
@@ -81,39 +100,40 @@ LoadedAtlas readAtlas(const std::string& path) {
       throw fail("version " + document.value("version", Json()).dump() + " is not " +
                  std::to_string(kVersion));
     auto& mesh = out.mesh;
-    for (const auto& p : document.at("mesh").at("vertices"))
-      mesh.add_vertex({p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>()});
-    const int n = int(mesh.n_vertices());
+    for (const auto& p : document.at("mesh").at("vertices")) {
+      const std::string what = "a coordinate of vertex " + std::to_string(mesh.n_vertices());
+      if (!p.is_array() || p.size() != 3)
+        throw fail("vertex " + std::to_string(mesh.n_vertices()) + " is not 3D");
+      mesh.add_vertex({number(p[0], what), number(p[1], what), number(p[2], what)});
+    }
+    const std::size_t n = mesh.n_vertices();
     const auto vertexIndex = [&](const Json& value, const std::string& what) {
-      const int v = value.get<int>();
-      if (v < 0 || v >= n) throw fail(what + " names vertex " + std::to_string(v));
-      return v;
+      return index(value, n, what, "vertex");
     };
     for (const auto& face : document.at("mesh").at("faces")) {
-      if (face.size() != 3) throw fail("a face is not a triangle");
+      if (!face.is_array() || face.size() != 3) throw fail("a face is not a triangle");
+      const int a = vertexIndex(face[0], "a face"), b = vertexIndex(face[1], "a face"),
+                c = vertexIndex(face[2], "a face");
+      if (a == b || b == c || c == a) throw fail("a face repeats a vertex");
       const auto f =
-          mesh.add_face(structure::TriMesh::VertexHandle(vertexIndex(face[0], "a face")),
-                        structure::TriMesh::VertexHandle(vertexIndex(face[1], "a face")),
-                        structure::TriMesh::VertexHandle(vertexIndex(face[2], "a face")));
+          mesh.add_face(structure::TriMesh::VertexHandle(a), structure::TriMesh::VertexHandle(b),
+                        structure::TriMesh::VertexHandle(c));
       if (!f.is_valid()) throw fail("its mesh is not a manifold");
     }
     auto& atlas = out.atlas;
-    atlas.diameter = document.at("diameter").get<double>();
+    atlas.diameter = number(document.at("diameter"), "the diameter");
     if (!(atlas.diameter > 0.0)) throw fail("the diameter is not positive");
-    atlas.flatnessDefect = document.at("flatness_defect").get<double>();
+    atlas.flatnessDefect = number(document.at("flatness_defect"), "the flatness defect");
     if (!(atlas.flatnessDefect >= 0.0)) throw fail("the flatness defect is negative");
     for (const auto& cone : document.at("cones"))
-      atlas.cones.push_back({vertexIndex(cone.at(0), "a cone"), cone.at(1).get<double>()});
-    atlas.chartOfVertex.assign(std::size_t(n), -1);
+      atlas.cones.push_back(
+          {vertexIndex(cone.at(0), "a cone"), number(cone.at(1), "a cone's curvature")});
+    atlas.chartOfVertex.assign(n, -1);
     for (const auto& entry : document.at("charts")) {
       structure::Chart chart;
       chart.vertex = vertexIndex(entry.at("vertex"), "a chart");
-      for (const auto& f : entry.at("faces")) {
-        const int face = f.get<int>();
-        if (face < 0 || face >= int(mesh.n_faces()))
-          throw fail("a chart names face " + std::to_string(face));
-        chart.faces.push_back(face);
-      }
+      for (const auto& f : entry.at("faces"))
+        chart.faces.push_back(index(f, mesh.n_faces(), "a chart", "face"));
       for (const auto& v : entry.at("vertices"))
         chart.vertices.push_back(vertexIndex(v, "a chart"));
       const auto& positions = entry.at("positions");
@@ -122,9 +142,14 @@ LoadedAtlas readAtlas(const std::string& path) {
         throw fail("the chart of vertex " + std::to_string(chart.vertex) +
                    " does not list its vertices and positions alike");
       chart.positions.resize(2, Eigen::Index(positions.size()));
-      for (std::size_t k = 0; k < positions.size(); ++k)
-        chart.positions.col(Eigen::Index(k)) << positions[k].at(0).get<double>(),
-            positions[k].at(1).get<double>();
+      const std::string position =
+          "a position of the chart of vertex " + std::to_string(chart.vertex);
+      for (std::size_t k = 0; k < positions.size(); ++k) {
+        if (!positions[k].is_array() || positions[k].size() != 2)
+          throw fail(position + " is not 2D");
+        chart.positions.col(Eigen::Index(k)) << number(positions[k][0], position),
+            number(positions[k][1], position);
+      }
       for (int f : chart.faces)
         for (const auto v : mesh.fv_range(structure::TriMesh::FaceHandle(f)))
           if (!chart.contains(v.idx()))
@@ -135,19 +160,22 @@ LoadedAtlas readAtlas(const std::string& path) {
       atlas.chartOfVertex[std::size_t(chart.vertex)] = int(atlas.charts.size());
       atlas.charts.push_back(std::move(chart));
     }
-    const int charts = int(atlas.charts.size());
+    const std::size_t charts = atlas.charts.size();
     std::pair<int, int> previous(-1, -1);
     for (const auto& entry : document.at("transitions")) {
       structure::Transition t;
-      t.from = entry.at(0).get<int>();
-      t.to = entry.at(1).get<int>();
-      if (t.from < 0 || t.to >= charts || t.from >= t.to)
+      if (!entry.is_array() || entry.size() != 5)
+        throw fail("a transition is not [from, to, angle, tx, ty]");
+      t.from = index(entry[0], charts, "a transition", "chart");
+      t.to = index(entry[1], charts, "a transition", "chart");
+      if (t.from >= t.to)
         throw fail("a transition joins charts " + std::to_string(t.from) + " and " +
                    std::to_string(t.to));
       if (std::make_pair(t.from, t.to) <= previous) throw fail("transitions are not sorted");
       previous = {t.from, t.to};
-      t.motion.angle = entry.at(2).get<double>();
-      t.motion.translation << entry.at(3).get<double>(), entry.at(4).get<double>();
+      t.motion.angle = number(entry[2], "a transition's angle");
+      t.motion.translation << number(entry[3], "a transition's translation"),
+          number(entry[4], "a transition's translation");
       const auto& a = atlas.charts[std::size_t(t.from)];
       if (!a.contains(atlas.charts[std::size_t(t.to)].vertex))
         throw fail("a transition joins the charts of vertices " + std::to_string(a.vertex) +

@@ -14,6 +14,7 @@
 // to chart `to` by x -> R(angle) x + (tx, ty)); numbers are written with 17 significant digits, so
 // reading gives back the same doubles.
 #include <string>
+#include <string_view>
 
 #include "mspline/structure/atlas/affine_atlas.h"
 #include "mspline/structure/mesh/tri_mesh.h"
@@ -31,8 +32,12 @@ struct LoadedAtlas {
 };
 
 /// Reads and checks an atlas file: InputError naming the file and the problem when it is not
-/// one (not JSON, wrong format or version, indices out of range, a chart or transition that does
-/// not fit the mesh); IoError when it cannot be read.
+/// one (not JSON, wrong format or version, indices out of range, a number that is not finite, a
+/// chart or transition that does not fit the mesh); IoError when it cannot be read.
 LoadedAtlas readAtlas(const std::string& path);
+
+/// Reads an atlas file's text as readAtlas does (the fuzz target's entry); `sourceName` stands for
+/// the file in messages.
+LoadedAtlas parseAtlas(std::string_view text, const std::string& sourceName);
 
 }  // namespace mspline::io

@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 
@@ -9,8 +10,8 @@
 #include "mspline/io/detail/off_format.h"
 #include "mspline/io/detail/ply_format.h"
 #include "mspline/io/detail/stl_format.h"
-#include "mspline/io/detail/whole_file.h"
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/core/whole_file.h"
 
 namespace mspline::io {
 
@@ -28,25 +29,36 @@ MeshFormat meshFormatFromPath(const std::string& path) {
 }
 
 MeshReadResult readMesh(const std::string& path) {
-  MeshFormat format = meshFormatFromPath(path);
-  std::string data = readWholeFile(path);
-  if (data.empty()) throw structure::InputError(path + ": the file is empty");
+  const MeshFormat format = meshFormatFromPath(path);
+  return parseMesh(structure::readWholeFile(path), format, path);
+}
+
+MeshReadResult parseMesh(std::string_view data, MeshFormat format, const std::string& sourceName) {
+  if (data.empty()) throw structure::InputError(sourceName + ": the file is empty");
   MeshReadResult result;
-  result.soup.sourceName = path;
+  result.soup.sourceName = sourceName;
   switch (format) {
     case MeshFormat::Obj:
-      detail::readObj(data, path, result.soup, result.warnings);
+      detail::readObj(data, sourceName, result.soup, result.warnings);
       break;
     case MeshFormat::Off:
-      detail::readOff(data, path, result.soup, result.warnings);
+      detail::readOff(data, sourceName, result.soup, result.warnings);
       break;
     case MeshFormat::Ply:
-      detail::readPly(data, path, result.soup, result.warnings);
+      detail::readPly(data, sourceName, result.soup, result.warnings);
       break;
     case MeshFormat::Stl:
-      detail::readStl(data, path, result.soup, result.warnings);
+      detail::readStl(data, sourceName, result.soup, result.warnings);
       break;
   }
+  // Every later step measures and compares positions: a NaN would pass through as a distance of 0.
+  for (std::size_t v = 0; v < result.soup.positions.size(); ++v)
+    for (int k = 0; k < 3; ++k)
+      if (!std::isfinite(result.soup.positions[v][std::size_t(k)]))
+        throw structure::InputError(sourceName + ": vertex " + std::to_string(v) +
+                                    " (counted from 0) has a coordinate that is not finite (" +
+                                    "xyz"[k] + " = " +
+                                    std::to_string(result.soup.positions[v][std::size_t(k)]) + ")");
   std::size_t triangulated = structure::triangulatePolygons(result.soup);
   if (triangulated > 0)
     result.warnings.push_back(std::to_string(triangulated) +

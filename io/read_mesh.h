@@ -1,6 +1,7 @@
 #pragma once
 // Reads OBJ, OFF, PLY (ASCII and binary) and STL (ASCII and binary) into a polygon soup.
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "mspline/structure/mesh/polygon_soup.h"
@@ -20,8 +21,13 @@ struct MeshReadResult {
 };
 
 /// Parses the file. Throws IoError when it cannot be opened or read, InputError when it is
-/// empty, of unknown format, malformed or truncated; every message names the file and, for
-/// text formats, the line.
+/// empty, of unknown format, malformed or truncated, or holds a vertex with a coordinate that is
+/// not finite (NaN or infinity); every message names the file and, for text formats, the line,
+/// or the vertex.
 MeshReadResult readMesh(const std::string& path);
+
+/// Parses a file's bytes as readMesh does (the fuzz targets' entry); `sourceName` stands for the
+/// file in messages.
+MeshReadResult parseMesh(std::string_view data, MeshFormat format, const std::string& sourceName);
 
 }  // namespace mspline::io

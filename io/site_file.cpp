@@ -1,10 +1,10 @@
 #include "mspline/io/site_file.h"
 
 #include <charconv>
-#include <fstream>
 
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/core/text_records.h"
+#include "mspline/structure/core/whole_file.h"
 
 namespace mspline::io {
 
@@ -22,12 +22,12 @@ bool parseWhole(const std::string& token, Number& value) {
 }  // namespace
 
 std::vector<SurfacePoint> readSiteFile(const std::string& path, const TriMesh& mesh) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw IoError(path + ": cannot open the sites file");
-  // Line by line: a read error (e.g. the path is a directory) sets badbit, as rdbuf() does not.
-  std::string text;
-  for (std::string line; std::getline(file, line);) text += line + '\n';
-  if (file.bad()) throw IoError(path + ": error while reading the sites file");
+  return parseSiteList(readWholeFile(path), path, mesh);
+}
+
+std::vector<SurfacePoint> parseSiteList(const std::string& text, const std::string& sourceName,
+                                        const TriMesh& mesh) {
+  const std::string& path = sourceName;
   std::vector<SurfacePoint> sites;
   for (const TextRecord& record : textRecords(text)) {
     const std::vector<std::string>& tokens = record.fields;

@@ -13,9 +13,16 @@
 namespace mspline::io {
 
 /// Reads a site file whose faces are faces of `mesh`. Throws IoError when it cannot be opened or
-/// read, InputError naming "path:line" for a malformed line or an invalid point
-/// (structure::checkSurfacePoint), and for a file without sites.
+/// read (a directory), InputError when it is not a regular file, InputError naming "path:line"
+/// for a malformed line or an invalid point (structure::checkSurfacePoint), and for a file
+/// without sites.
 std::vector<structure::SurfacePoint> readSiteFile(const std::string& path,
                                                   const structure::TriMesh& mesh);
+
+/// Parses site-file text as readSiteFile does (the fuzz target's entry); `sourceName` stands for
+/// the file in messages.
+std::vector<structure::SurfacePoint> parseSiteList(const std::string& text,
+                                                   const std::string& sourceName,
+                                                   const structure::TriMesh& mesh);
 
 }  // namespace mspline::io

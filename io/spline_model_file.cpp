@@ -12,9 +12,9 @@
 #include "mspline/io/atomic_file.h"
 #include "mspline/io/detail/byte_order.h"
 #include "mspline/io/detail/output_buffer.h"
-#include "mspline/io/detail/whole_file.h"
 #include "mspline/spline/tspline/tspline.h"
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/core/whole_file.h"
 
 namespace mspline::io {
 
@@ -85,6 +85,9 @@ void checkCommon(const SplineModel& model) {
   const std::size_t vertices = std::size_t(model.surfaceVertices.rows());
   requireCount(vertices, "surface vertices");
   requireCount(model.surfaceFaces.size(), "surface faces");
+  // A spline is built on a surface: without one, check has nowhere to sample and export nothing
+  // to write.
+  if (model.surfaceFaces.empty()) fail("the model has no surface faces");
   for (std::size_t v = 0; v < vertices; ++v)
     for (int k = 0; k < 3; ++k)
       requireFinite(model.surfaceVertices(Eigen::Index(v), k),
@@ -120,6 +123,10 @@ void checkTriangularBSpline(const SplineModel& model) {
   if (domain.sideLengths.size() != faces || domain.neighbour.size() != faces ||
       domain.neighbourSide.size() != faces)
     fail("the domain's per-face arrays have different sizes");
+  if (faces == 0) fail("the domain has no faces");
+  if (model.controlPoints.cols() != 3)
+    fail("control points have " + str(std::size_t(model.controlPoints.cols())) +
+         " coordinates, triangular B-splines need 3");
   if (model.degree < 1) fail("degree " + std::to_string(model.degree) + " is below 1");
   const std::size_t knotsPerCorner = std::size_t(model.degree) + 1;
   if (model.knots.size() != faces)
@@ -186,6 +193,7 @@ spline::TMesh checkTMeshModel(const SplineModel& model, const char* kind) {
     fail(str(model.surfaceVertexTMeshPoints.size()) + " surface vertex T-mesh points for " +
          str(vertices) + " surface vertices");
   requireCount(model.tmesh.faces.size(), "T-mesh faces");
+  if (model.tmesh.faces.empty()) fail("the T-mesh has no faces");
   for (const spline::TMeshFace& face : model.tmesh.faces)
     requireCount(face.vertices.size(), "T-mesh face vertices");
   spline::TMesh mesh;
@@ -525,13 +533,16 @@ void writeSplineModel(const std::string& path, const SplineModel& model) {
 }
 
 SplineModel readSplineModel(const std::string& path) {
-  const std::string data = readWholeFile(path);
-  ModelReader in(data, path);
+  return parseSplineModel(structure::readWholeFile(path), path);
+}
+
+SplineModel parseSplineModel(std::string_view data, const std::string& sourceName) {
+  ModelReader in(data, sourceName);
   SplineModel model;
 
   in.section("header");
   if (data.empty()) in.fail("the file is empty, not an .msp spline model");
-  const std::string_view start = std::string_view(data).substr(0, kMagic.size());
+  const std::string_view start = data.substr(0, kMagic.size());
   if (start != kMagic.substr(0, start.size()))
     in.fail("not an .msp spline model (it does not start with the MSPLINE magic)");
   in.bytes(kMagic.size());

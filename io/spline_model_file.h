@@ -15,23 +15,24 @@
 //            (spline::SplineKind)
 //   common part (every kind)
 //     surface vertices         u32 V; V times f64 x, y, z
-//     surface faces            u32 F; F times i32 a, b, c (surface vertices, counter-clockwise)
+//     surface faces            u32 F (at least 1); F times i32 a, b, c (surface vertices,
+//                              counter-clockwise)
 //     filled surface faces     (version 3) u32 count (0, or F); count times u8: 1 when the
 //                              surface face fills a hole of the scan (structure/mesh/cap_holes.h)
 //   kind 1 part: triangular B-spline
 //     surface vertex locations V times i32 domain face, f64 b0, b1, b2 (barycentric)
 //     domain vertices          u32 N; N times u8 cone (0 or 1), i32 source surface vertex
-//     domain faces             u32 M; M times i32 corner[3], f64 side length[3],
+//     domain faces             u32 M (at least 1); M times i32 corner[3], f64 side length[3],
 //                              i32 neighbour[3] (domain faces), u8 neighbour side[3] (0 to 2)
 //     degree                   i32 n (at least 1)
 //     knots                    M faces times 3 corners times n + 1 points f64 x, y
-//     control points           u32 rows (M (n + 1)(n + 2) / 2), u32 columns, then
+//     control points           u32 rows (M (n + 1)(n + 2) / 2), u32 columns (3), then
 //                              rows times columns f64, row-major
 //   kind 2 part: cubic T-spline (spline/tspline/tspline.h; the degree is 3 and not stored)
-//     T-mesh                   u32 vertex count, u32 face count; per face u32 k (at least 4),
-//                              then k times i32 vertex, f64 x, y: its boundary counter-clockwise
-//                              from the corner (0, 0), positions in the face's frame (what
-//                              spline::buildTMesh takes and must accept)
+//     T-mesh                   u32 vertex count, u32 face count (at least 1); per face u32 k
+//                              (at least 4), then k times i32 vertex, f64 x, y: its boundary
+//                              counter-clockwise from the corner (0, 0), positions in the face's
+//                              frame (what spline::buildTMesh takes and must accept)
 //     surface vertex T-mesh points
 //                              V times i32 T-mesh face, f64 x, y (inside that face's rectangle,
 //                              to 1e-9 of its size)
@@ -67,6 +68,7 @@
 // and rejects newer ones, naming both. Since nothing may follow the last section, an old reader
 // never silently drops data.
 #include <string>
+#include <string_view>
 
 #include "mspline/spline/core/spline_model.h"
 
@@ -81,11 +83,16 @@ void writeSplineModel(const std::string& path, const spline::SplineModel& model)
 
 /// Reads and checks a spline model file: InputError naming the file and the problem when it is
 /// not a valid one (not an .msp file, an unsupported version or kind, truncated in a section,
-/// counts that do not match, an index out of range, a non-finite number, a domain that
+/// no surface faces, no domain or T-mesh faces, counts that do not match, control points with
+/// other than 3 coordinates, an index out of range, a non-finite number, a domain that
 /// spline::validateDomain or a T-mesh that spline::buildTMesh rejects, a T-mesh point outside its
 /// face, a weight that is not positive, a subdivision surface's T-mesh with T-junctions or control
 /// points other than one per T-mesh vertex, bytes after the end); IoError when it cannot be read.
 /// The tmesh of a T-spline or a subdivision surface comes back completed by buildTMesh.
 spline::SplineModel readSplineModel(const std::string& path);
+
+/// Reads a model file's bytes as readSplineModel does (the fuzz target's entry); `sourceName`
+/// stands for the file in messages.
+spline::SplineModel parseSplineModel(std::string_view data, const std::string& sourceName);
 
 }  // namespace mspline::io

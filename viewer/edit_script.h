@@ -16,6 +16,7 @@
 // events would.
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -39,8 +40,15 @@ struct ScriptedEdit {
 };
 
 /// Reads an edit script; throws InputError naming the file (and the edit, counted from 1) when it
-/// cannot be read, is not JSON of the form above, or names a control point out of range.
+/// is not JSON of the form above, names a control point out of range, or asks for more than
+/// 10000 steps or undos or redos at once, or a wait beyond 600 seconds; IoError when it cannot be
+/// read.
 std::vector<ScriptedEdit> readEditScript(const std::string& path, int numControlPoints);
+
+/// Parses an edit script's text as readEditScript does (the fuzz target's entry); `sourceName`
+/// stands for the file in messages.
+std::vector<ScriptedEdit> parseEditScript(std::string_view text, const std::string& sourceName,
+                                          int numControlPoints);
 
 /// Runs one edit through `controller` and `session`, calling `frame` after every step (the
 /// window redraws there; it may also autosave). Throws InputError when a pixel drag would not

@@ -186,6 +186,12 @@ void writeStl(std::ostream& out, const structure::PolygonSoup& soup) {
       throw structure::InputError("STL stores triangles only, but face " + std::to_string(f) +
                                   " has " + std::to_string(soup.faces[f].size()) + " vertices");
   }
+  // Beyond float's range a coordinate would become infinite, which the reader refuses.
+  for (std::size_t v = 0; v < soup.positions.size(); ++v)
+    for (double coordinate : soup.positions[v])
+      if (!(std::abs(coordinate) <= std::numeric_limits<float>::max()))
+        throw structure::InputError("binary STL stores floats, but vertex " + std::to_string(v) +
+                                    " has the coordinate " + std::to_string(coordinate));
   OutputBuffer buffer(out);
   // The header must not start with "solid", or readers may take the file for ASCII STL.
   std::string header = "binary STL written by mspline";

@@ -454,10 +454,13 @@ void DmsSpace::buildNeighbourhoods() {
     for (int v : triangles_[t]) points.insert(points.end(), knots_[v].begin(), knots_[v].end());
     supports[t] = convexHull(std::move(points));
   }
+  // Clamped before the conversion: a knot far outside the grid (a model file may hold any
+  // finite knot) would not fit in an int.
   const auto cellRange = [this](double low, double high, double origin, int cells) {
-    return std::array<int, 2>{
-        std::clamp(static_cast<int>(std::floor((low - origin) / gridCell_)), 0, cells - 1),
-        std::clamp(static_cast<int>(std::floor((high - origin) / gridCell_)), 0, cells - 1)};
+    const auto cell = [&](double x) {
+      return static_cast<int>(std::clamp(std::floor((x - origin) / gridCell_), 0.0, cells - 1.0));
+    };
+    return std::array<int, 2>{cell(low), cell(high)};
   };
   std::vector<std::vector<int>> influencing(count);
   std::vector<int> seen(count, -1);

@@ -3,13 +3,13 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <limits>
 #include <set>
 #include <sstream>
 
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/core/text_records.h"
+#include "mspline/structure/core/whole_file.h"
 
 namespace mspline::structure {
 
@@ -56,12 +56,7 @@ std::vector<Cone> parseConeList(const std::string& text, const std::string& sour
 }
 
 std::vector<Cone> readConeFile(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw IoError(path + ": cannot open the cone file");
-  std::ostringstream text;
-  text << file.rdbuf();
-  if (file.bad()) throw IoError(path + ": error while reading the cone file");
-  return parseConeList(text.str(), path);
+  return parseConeList(readWholeFile(path), path);
 }
 
 std::string formatConeFile(const std::vector<Cone>& cones) {

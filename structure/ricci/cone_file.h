@@ -13,9 +13,10 @@
 
 namespace mspline::structure {
 
-/// Reads a cone file. Throws IoError when it cannot be opened or read, InputError naming
-/// "path:line" for a malformed line (not exactly an integer >= 0 and a finite number) or a vertex
-/// listed twice. Vertex ranges are checked later against the mesh (flatTarget).
+/// Reads a cone file. Throws IoError when it cannot be opened or read (a directory), InputError
+/// when it is not a regular file, InputError naming "path:line" for a malformed line (not exactly
+/// an integer >= 0 and a finite number) or a vertex listed twice. Vertex ranges are checked later
+/// against the mesh (flatTarget).
 std::vector<Cone> readConeFile(const std::string& path);
 
 /// Parses cone-file text; `sourceName` stands for the path in error messages.

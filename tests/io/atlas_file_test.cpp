@@ -76,5 +76,27 @@ TEST_CASE("atlas_file: broken files are input errors naming the file", "[io]") {
   REQUIRE(to != std::string::npos);
   const std::string noTransitions = text.substr(0, from) + text.substr(to);
   expectInputError("transitions.json", noTransitions, "no transition");
+  // Numbers where an index belongs, strings where a number does, numbers that overflow (JSON
+  // refuses them), faces that repeat a vertex (issue 17).
+  const auto replaced = [&](const std::string& from, const std::string& to) {
+    std::string changed = text;
+    const std::size_t at = changed.find(from);
+    REQUIRE(at != std::string::npos);
+    return changed.replace(at, from.size(), to);
+  };
+  expectInputError("fraction.json", replaced("\"vertex\":0", "\"vertex\":0.5"), "no index");
+  expectInputError("unsigned.json", replaced("\"vertex\":0", "\"vertex\":18446744073709551615"),
+                   "vertex 18446744073709551615");
+  expectInputError("negative.json", replaced("\"vertex\":0", "\"vertex\":-1"), "vertex -1");
+  expectInputError("coordinate.json", replaced("\"vertices\":[[", "\"vertices\":[[\"1\",0,0],["),
+                   "a coordinate of vertex 0 is not a number");
+  expectInputError("infinite.json", replaced("\"diameter\":", "\"diameter\":1e999,\"x\":"),
+                   "not a JSON atlas");
+  expectInputError("string.json", replaced("\"diameter\":", "\"diameter\":\"1\",\"x\":"),
+                   "the diameter is not a number");
+  expectInputError("repeated.json", replaced("\"faces\":[[", "\"faces\":[[0,0,1],["),
+                   "a face repeats a vertex");
+  std::filesystem::create_directories(dir + "/folder.json");
+  CHECK_THROWS_AS(io::readAtlas(dir + "/folder.json"), structure::IoError);
   CHECK_THROWS_AS(io::readAtlas(dir + "/missing.json"), structure::IoError);
 }

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <sstream>
 
@@ -110,13 +111,10 @@ TEST_CASE("read_mesh: OFF polygons are fan-triangulated with a warning", "[io]")
 TEST_CASE("read_mesh: geometrically bad content is stored as-is for validation", "[io]") {
   std::string dir = mspline::test::scratchDirectory("read_mesh_bad_content");
   std::string off = writeFile(dir, "bad.off",
-                              "OFF\n3 4 0\nnan 0 0\ninf -inf 1\n0 1 0\n"
+                              "OFF\n3 4 0\n0 0 0\n1 0 1\n0 1 0\n"
                               "3 0 1 7\n3 0 -2 1\n2 0 1\n0\n");
   auto result = readMesh(off);
   REQUIRE(result.soup.positions.size() == 3);
-  CHECK(std::isnan(result.soup.positions[0][0]));
-  CHECK(result.soup.positions[1][0] == HUGE_VAL);
-  CHECK(result.soup.positions[1][1] == -HUGE_VAL);
   CHECK(result.soup.faces == std::vector<Face>{{0, 1, 7}, {0, -2, 1}, {0, 1}, {}});
 
   // An OBJ relative index reaching before the first vertex stays negative; index 0 is invalid
@@ -124,9 +122,41 @@ TEST_CASE("read_mesh: geometrically bad content is stored as-is for validation",
   std::string obj = writeFile(dir, "bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 -5\nf 0 1 2\n");
   CHECK(readMesh(obj).soup.faces == std::vector<Face>{{0, 1, -3}, {-1, 0, 1}});
 
-  // Values far outside double's range round to infinity or zero, as strtod would.
-  std::string huge = writeFile(dir, "huge.off", "OFF\n1 0 0\n1e999 -1e999 1e-999\n");
-  CHECK(readMesh(huge).soup.positions[0] == Position{HUGE_VAL, -HUGE_VAL, 0.0});
+  // Values below double's range round to zero, as strtod would.
+  std::string tiny = writeFile(dir, "tiny.off", "OFF\n1 0 0\n1e-999 -1e-999 1\n");
+  CHECK(readMesh(tiny).soup.positions[0] == Position{0.0, 0.0, 1.0});
+}
+
+// Issue 17: a NaN vertex passed through to `export --error-map` as a distance of 0.
+TEST_CASE(
+    "read_mesh: a coordinate that is not finite is refused in every format, naming the "
+    "file and the vertex",
+    "[io]") {
+  std::string dir = mspline::test::scratchDirectory("read_mesh_non_finite");
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  std::string ply =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+      "property float y\nproperty float z\nelement face 1\n"
+      "property list uchar int vertex_indices\nend_header\n";
+  for (float c : {0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 1.0f, nan}) put(ply, c);
+  put(ply, std::uint8_t{3});
+  for (int v : {0, 1, 2}) put(ply, v);
+  const std::vector<std::array<std::string, 3>> cases = {
+      {"inf.off", "OFF\n3 1 0\n0 0 0\ninf -inf 1\n0 1 0\n3 0 1 2\n", "vertex 1 "},
+      {"huge.off", "OFF\n3 1 0\n0 0 1e999\n1 0 0\n0 1 0\n3 0 1 2\n", "vertex 0 "},
+      {"w.off", "4OFF\n3 1 0\n0 0 0 1\n1 0 0 1\n0 1 0 0\n3 0 1 2\n", "vertex 2 "},
+      {"nan.obj", "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n", "vertex 2 "},
+      {"nan.ply", ply, "vertex 2 "},
+      {"inf.stl", binaryStl("", {{0, 0, 0, 1, 0, 0, 0, inf, 0}}, 1), "vertex 2 "},
+  };
+  for (const auto& [name, bytes, vertex] : cases) {
+    const std::string path = writeFile(dir, name, bytes);
+    INFO(name);
+    CHECK_THROWS_AS(readMesh(path), InputError);
+    CHECK_THROWS_WITH(readMesh(path), Catch::Contains(path) && Catch::Contains(vertex) &&
+                                          Catch::Contains("not finite"));
+  }
 }
 
 TEST_CASE("read_mesh: OBJ face forms, relative indices and per-corner UVs", "[io]") {

@@ -372,6 +372,40 @@ TEST_CASE("spline_model_file: corrupt files are input errors naming the file and
   expect("side.msp", patched(good, neighbourOfFace0 + 12, std::uint8_t(3)), "does not point back");
 }
 
+// The files of issue 17 that the reader accepted and check or export then crashed on (or wrote an
+// empty mesh from).
+TEST_CASE(
+    "spline_model_file: empty models and control points of other than 3 coordinates are "
+    "refused",
+    "[io]") {
+  const std::string dir = test::scratchDirectory("io_spline_model_file_empty");
+  io::writeSplineModel(dir + "/good.msp", awkwardModel());
+  const std::string good = test::fileText(dir + "/good.msp");
+  REQUIRE(good.size() == Layout::size);
+  const auto expect = corruptFileCheck(dir);
+  const auto u32 = [](std::uint32_t value) { return patched(std::string(4, '\0'), 0, value); };
+
+  // 48 bytes: the header, then every count 0 (degree 1, control points 0 x 3).
+  const std::string empty =
+      good.substr(0, 16) + u32(0) + u32(0) + u32(0) + u32(0) + u32(0) + u32(1) + u32(0) + u32(3);
+  REQUIRE(empty.size() == 48);
+  expect("empty-model.msp", empty, "the model has no surface faces");
+  // The surface kept, the domain emptied.
+  expect("no-domain.msp",
+         good.substr(0, Layout::domainFaces) + u32(0) + u32(kDegree) + u32(0) + u32(3),
+         "the domain has no faces");
+  // The control points' columns 0, 1, 2 and 4 (their values as many as the columns ask for).
+  const std::string values = good.substr(Layout::controlPoints + 8);
+  for (std::uint32_t columns : {0u, 1u, 2u, 4u}) {
+    std::string bytes =
+        patched(good.substr(0, Layout::controlPoints + 8), Layout::controlPoints + 4, columns);
+    bytes += std::string(Layout::rows * columns * 8, '\0');
+    expect("columns" + std::to_string(columns) + ".msp", bytes,
+           "control points have " + std::to_string(columns) +
+               " coordinates, triangular B-splines need 3");
+  }
+}
+
 TEST_CASE("spline_model_file: unreadable and unwritable paths, models the format refuses", "[io]") {
   const std::string dir = test::scratchDirectory("io_spline_model_file_paths");
   CHECK_THROWS_AS(io::readSplineModel(dir + "/missing.msp"), structure::IoError);

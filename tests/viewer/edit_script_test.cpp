@@ -57,6 +57,15 @@ TEST_CASE("edit_script: bad scripts are input errors naming the file and the edi
       {R"({"edits": [{"offset": [0, 0, 1]}]})", "edit 1: a move needs \"points\""},
       {R"({"edits": [{"points": [1], "normal": 1, "steps": 0}]})", "edit 1: \"steps\""},
       {R"({"edits": [{"wait": -1}]})", "edit 1: \"wait\""},
+      // Numbers that would hang the viewer, wrap around int or overflow to infinity.
+      {R"({"edits": [{"points": [1], "normal": 1e999}]})", "not JSON"},
+      {R"({"edits": [{"wait": 1e9}]})", "edit 1: \"wait\""},
+      {R"({"edits": [{"points": [1], "normal": 1, "steps": 4294967297}]})", "edit 1: \"steps\""},
+      {R"({"edits": [{"points": [1], "normal": 1, "steps": 100000000}]})", "edit 1: \"steps\""},
+      {R"({"edits": [{"undo": 2147483647}]})", "edit 1: \"undo\""},
+      {R"({"edits": [{"points": [18446744073709551615], "normal": 1}]})",
+       "edit 1: control point 18446744073709551615"},
+      {R"({"edits": [{"points": [1.5], "normal": 1}]})", "edit 1: control point 1.5"},
   };
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const std::string path = writeScript(dir, "bad" + std::to_string(i) + ".json", cases[i].first);

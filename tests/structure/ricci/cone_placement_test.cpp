@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 
 #include <Eigen/SparseCholesky>
@@ -312,6 +313,11 @@ TEST_CASE("cone_placement: cone files", "[structure]") {
   }
   SECTION("a missing file is an I/O error") {
     CHECK_THROWS_AS(structure::readConeFile(dir + "/missing.txt"), structure::IoError);
+  }
+  SECTION("a directory is refused, not read as an empty list (issue 17)") {
+    std::filesystem::create_directories(dir + "/folder");
+    CHECK_THROWS_AS(structure::readConeFile(dir + "/folder"), structure::IoError);
+    CHECK_THROWS_WITH(structure::readConeFile(dir + "/folder"), Catch::Contains(dir + "/folder"));
   }
 }
 

@@ -1,4 +1,4 @@
-#include "mspline/io/detail/whole_file.h"
+#include "mspline/structure/core/whole_file.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -9,13 +9,12 @@
 
 #include "mspline/structure/core/errors.h"
 
-namespace mspline::io {
+namespace mspline::structure {
 
 namespace {
 
 [[noreturn]] void failSystem(const std::string& path, const char* action, int error) {
-  throw structure::IoError("cannot " + std::string(action) + " '" + path +
-                           "': " + std::strerror(error));
+  throw IoError("cannot " + std::string(action) + " '" + path + "': " + std::strerror(error));
 }
 
 }  // namespace
@@ -25,7 +24,7 @@ std::string readWholeFile(const std::string& path) {
   if (::stat(path.c_str(), &info) != 0) failSystem(path, "open", errno);
   if (S_ISDIR(info.st_mode)) failSystem(path, "read", EISDIR);
   if (!S_ISREG(info.st_mode))
-    throw structure::InputError(path + ": not a regular file (pipes and devices are not read)");
+    throw InputError(path + ": not a regular file (pipes and devices are not read)");
   int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) failSystem(path, "open", errno);
   struct FileCloser {
@@ -50,4 +49,4 @@ std::string readWholeFile(const std::string& path) {
   return data;
 }
 
-}  // namespace mspline::io
+}  // namespace mspline::structure
