@@ -8,7 +8,6 @@
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/mesh/bounding_box.h"
 #include "mspline/structure/mesh/closest_point.h"
-#include "mspline/structure/mesh/validate.h"
 
 namespace mspline::io {
 
@@ -20,15 +19,12 @@ ScanErrors writeErrorMap(const std::string& scanPath, const std::string& outPath
   MeshReadResult scan = readMesh(scanPath);
   if (scan.soup.positions.empty())
     throw structure::InputError(scanPath + ": the scan has no vertices");
-  scan.soup.sourceName = scanPath;
-  // A NaN has no distance to the surface: it would vanish from the figures instead of failing.
-  for (const structure::MeshProblem& problem : structure::validate(scan.soup).problems)
-    if (problem.kind == "non_finite_coordinate") throw structure::InputError(problem.message);
   const structure::TriangleMeshDistance distance(structure::pointMatrix(surface.mesh.positions),
                                                  structure::triangleIndices(surface.mesh));
   const ErrorMap map = errorMap(structure::pointMatrix(scan.soup.positions), distance);
   VertexAttributes attributes;
   attributes.colors = map.colors;
+  scan.soup.sourceName = scanPath;
   writeMesh(outPath, scan.soup, attributes);
   const double diagonal = structure::boundingBoxDiagonal(scan.soup.positions);
   ScanErrors errors;
