@@ -31,7 +31,9 @@ namespace {
   throw structure::IoError("cannot write '" + path + "': " + reason);
 }
 
-[[noreturn]] void failWithErrno(const std::string& path) { failWriting(path, std::strerror(errno)); }
+[[noreturn]] void failWithErrno(const std::string& path) {
+  failWriting(path, std::strerror(errno));
+}
 
 // Writes through a file descriptor; the standard streams cannot adopt one.
 class DescriptorBuffer : public std::streambuf {
@@ -98,8 +100,7 @@ void removeTemporariesOfGoneProcesses(const fs::path& target) {
         rest.find_first_not_of("0123456789") != dash)
       continue;
     const pid_t pid = pid_t(std::stol(rest.substr(0, dash)));
-    if (pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH)
-      ::unlink(entry->path().c_str());
+    if (pid != ::getpid() && ::kill(pid, 0) != 0 && errno == ESRCH) ::unlink(entry->path().c_str());
   }
 }
 
@@ -177,16 +178,22 @@ thread_local OutputBatch* innermostBatch = nullptr;
 
 }  // namespace
 
-OutputBatch::OutputBatch() : outer_(innermostBatch) { innermostBatch = this; }
+OutputBatch::OutputBatch() : outer_(innermostBatch) {
+  innermostBatch = this;
+}
 
 OutputBatch::~OutputBatch() {
   innermostBatch = outer_;
   for (StagedFile& file : staged_) discard(file);
 }
 
-OutputBatch* OutputBatch::current() { return innermostBatch; }
+OutputBatch* OutputBatch::current() {
+  return innermostBatch;
+}
 
-void OutputBatch::stage(StagedFile file) { staged_.push_back(std::move(file)); }
+void OutputBatch::stage(StagedFile file) {
+  staged_.push_back(std::move(file));
+}
 
 std::string OutputBatch::readablePath(const std::string& target) const {
   const std::string resolved = resolveLinks(target).string();

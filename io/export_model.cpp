@@ -1,9 +1,9 @@
 #include "mspline/io/export_model.h"
 
+#include "mspline/io/atomic_file.h"
 #include "mspline/io/error_map.h"
 #include "mspline/io/read_mesh.h"
 #include "mspline/io/shaded_picture.h"
-#include "mspline/io/atomic_file.h"
 #include "mspline/io/write_mesh.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/mesh/bounding_box.h"

@@ -78,11 +78,11 @@ TEST_CASE("atlas_file: broken files are input errors naming the file", "[io]") {
   expectInputError("transitions.json", noTransitions, "no transition");
   // Numbers where an index belongs, strings where a number does, numbers that overflow (JSON
   // refuses them), faces that repeat a vertex (issue 17).
-  const auto replaced = [&](const std::string& from, const std::string& to) {
+  const auto replaced = [&](const std::string& original, const std::string& replacement) {
     std::string changed = text;
-    const std::size_t at = changed.find(from);
+    const std::size_t at = changed.find(original);
     REQUIRE(at != std::string::npos);
-    return changed.replace(at, from.size(), to);
+    return changed.replace(at, original.size(), replacement);
   };
   expectInputError("fraction.json", replaced("\"vertex\":0", "\"vertex\":0.5"), "no index");
   expectInputError("unsigned.json", replaced("\"vertex\":0", "\"vertex\":18446744073709551615"),
