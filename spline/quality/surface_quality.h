@@ -30,8 +30,8 @@ struct QualityOptions {
   /// `resolution`) counts as a crease (SurfaceSmoothness::creases).
   double creaseDegrees = 30.0;
   /// Newton steps at most per closest point on the spline surface (each from the closest point of
-  /// the finer tessellation).
-  int newtonSteps = 10;
+  /// the finer tessellation; spline/fitting/surface_fit.h's projectOntoSurface).
+  int newtonSteps = 12;
   /// Keep the per-sample figures (SurfaceQuality::details) for callers that act on them, such as
   /// a refinement loop.
   bool details = false;
@@ -74,8 +74,11 @@ struct SurfaceDistances {
   /// Every vertex of the finer tessellation over the scan to its closest point on the scan's
   /// triangles.
   DistanceSpread surfaceToScan;
-  /// Newton projections that did not converge (a step still above 1e-10 of the diagonal after
-  /// QualityOptions::newtonSteps; their distance is the best one met, still an upper bound).
+  /// Newton projections that did not end at a critical point of the distance (the offset from the
+  /// surface not along its normal to 1e-3 rad, which would put the distance within 5e-7 of it of
+  /// the local minimum's; the scan vertex not on the surface to 1e-9 of the diagonal): their
+  /// distance is the best one met, an upper bound. Where the surface is singular (no normal) a
+  /// projection counts as converged.
   int unconvergedProjections = 0;
 };
 
