@@ -93,3 +93,20 @@ TEST_CASE("quality: check --scan refuses a scan that is not the model's, naming 
     CHECK(json["error"]["message"].get<std::string>().find(scan) != std::string::npos);
   }
 }
+
+TEST_CASE("quality: check of a subdivision model reports its quality only", "[cli]") {
+  const std::string model = test::fitModel(
+      "knot1.off", "subd", test::scratchDirectory("cli_quality_subd") + "/knot-subd.msp");
+  const auto checked = runJson("check " + model + " --scan " + realMeshPath("knot1.off") +
+                               " --quality-resolution 2");
+  CHECK(checked["kind"] == "subd");
+  CHECK(checked["passed"].get<bool>());
+  CHECK_FALSE(checked.contains("max_chart_discrepancy"));
+  const auto& quality = checked["quality"];
+  CHECK(quality["with_scan"].get<bool>());
+  CHECK(quality["smoothness"]["coarse"]["resolution"] == 2);
+  CHECK(quality["smoothness"]["fine"]["resolution"] == 4);
+  // The knot has no cones: the limit surface is a bicubic B-spline, C2, fold-free.
+  CHECK(quality["folds"]["total"] == 0);
+  CHECK(quality["smoothness"]["p99_ratio"].get<double>() > 1.7);
+}
