@@ -418,6 +418,8 @@ SurfaceQuality measureQuality(const SplineModel& model, const ModelSurface& surf
         std::to_string(surface.numControlPoints()) + " functions, or not finite)");
   if (scan) {
     const auto [scanPoints, scanFaces] = scanTriangles(*scan);
+    if (!scanPoints.allFinite())
+      throw structure::InputError(options.scanName + ": a vertex position is not finite");
     if (model.surfaceVertices.rows() < scanPoints.rows() ||
         !model.surfaceVertices.topRows(scanPoints.rows()).isApprox(scanPoints, 1e-12))
       throw structure::InputError(options.scanName + ": not the scan " + options.name +

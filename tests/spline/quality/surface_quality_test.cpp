@@ -205,6 +205,10 @@ TEST_CASE("surface_quality: bad input is refused, naming it", "[spline]") {
   options.scanName = "other.off";
   CHECK_THROWS_WITH(spline::measureQuality(model, &otherScan, options),
                     Catch::StartsWith("other.off: not the scan m.msp was fitted to"));
+  structure::TriMesh nanScan = scan;
+  nanScan.set_point(*nanScan.vertices_begin(), structure::TriMesh::Point(0.0, std::nan(""), 0.0));
+  CHECK_THROWS_WITH(spline::measureQuality(model, &nanScan, options),
+                    Catch::StartsWith("other.off: a vertex position is not finite"));
   const spline::ModelSurface surface(model, "m.msp");
   Eigen::MatrixXd broken = model.controlPoints;
   broken(0, 0) = std::nan("");
