@@ -255,9 +255,9 @@ std::pair<Eigen::MatrixX3d, std::vector<std::array<int, 3>>> scanTriangles(
 
 // Distances both ways and the folds against the scan's normals.
 void measureAgainstScan(const FitSpace& space, const Eigen::MatrixXd& control,
-                        const structure::TriMesh& scan, const MeasuredTessellation& coarse,
-                        const MeasuredTessellation& fine, const QualityOptions& options,
-                        SurfaceQuality& quality) {
+                        const structure::TriMesh& scan, const std::vector<FacePoint>& fitted,
+                        const MeasuredTessellation& coarse, const MeasuredTessellation& fine,
+                        const QualityOptions& options, SurfaceQuality& quality) {
   auto [scanPoints, scanFaces] = scanTriangles(scan);
   SurfaceDistances& d = quality.distances;
   d.diagonal = structure::boundingBoxDiagonal(scanPoints);
@@ -285,11 +285,18 @@ void measureAgainstScan(const FitSpace& space, const Eigen::MatrixXd& control,
                 (corner < 0 || hit.barycentric[c] > hit.barycentric[corner]))
               corner = c;
           Projection& out = projections[k];
+          const Vector3d x = scanPoints.row(Eigen::Index(k)).transpose();
           if (corner >= 0) {
             const std::int64_t v = corners[std::size_t(corner)];
-            out = project(space, control, scanPoints.row(Eigen::Index(k)).transpose(),
+            out = project(space, control, x,
                           fine.t.samplePoints[std::size_t(fine.t.sampleOffsets[std::size_t(v)])],
                           options.newtonSteps, 1e-9 * unit, terms);
+          }
+          // The fit's own parameters, a second start: across a cone's hole Newton cannot walk.
+          if (k < fitted.size()) {
+            const Projection again =
+                project(space, control, x, fitted[k], options.newtonSteps, 1e-9 * unit, terms);
+            if (!(again.distance >= out.distance)) out = again;
           }
           // Where the spline is undefined around the start (a cone's hole), the tessellation there.
           if (!std::isfinite(out.distance)) {
@@ -467,7 +474,11 @@ SurfaceQuality measureQuality(const SplineModel& model, const ModelSurface& surf
   measureRegularity(surface.fitSpace(), control, coarse, quality.regularity);
   if (scan) {
     structure::report(progress, "quality: distances to the scan", 0.5);
-    measureAgainstScan(surface.fitSpace(), control, *scan, coarse, fine, options, quality);
+    // The T-mesh kinds keep each scan vertex's parameters from the fit.
+    const std::vector<FacePoint> none;
+    const std::vector<FacePoint>& fitted =
+        model.kind == SplineKind::TriangularBSpline ? none : model.surfaceVertexTMeshPoints;
+    measureAgainstScan(surface.fitSpace(), control, *scan, fitted, coarse, fine, options, quality);
   }
   quality.seconds = clock.lap();
   structure::report(progress, "quality measured", 1.0);

@@ -66,10 +66,11 @@ struct DistanceSpread {
 struct SurfaceDistances {
   /// The scan's bounding-box diagonal (the unit of the spreads).
   double diagonal = 0.0;
-  /// Every scan vertex to its closest point on the spline surface (the closest point of the finer
-  /// tessellation refined by Newton projection on the spline; the surface includes the parts over
-  /// fill patches, where the surface also is). Vertices of the model's fill patches are not the
-  /// scan's and not measured.
+  /// Every scan vertex to its closest point on the spline surface: Newton projection on the spline
+  /// from the closest point of the finer tessellation and, for the T-mesh kinds, from the vertex's
+  /// parameters in the model (SplineModel::surfaceVertexTMeshPoints, what the fit found), the
+  /// nearer one. The surface includes the parts over fill patches, where the surface also is.
+  /// Vertices of the model's fill patches are not the scan's and not measured.
   DistanceSpread scanToSurface;
   /// Every vertex of the finer tessellation over the scan to its closest point on the scan's
   /// triangles.
