@@ -14,9 +14,9 @@
 
 #include "mspline/io/spline_model_file.h"
 #include "mspline/spline/fitting/surface_fit.h"
+#include "mspline/spline/quality/surface_quality.h"
 #include "mspline/spline/tribspline/spline_domain.h"
 #include "mspline/structure/core/errors.h"
-#include "mspline/structure/mesh/closest_point.h"
 #include "python/src/arrays.h"
 
 namespace mspline::python {
@@ -130,40 +130,6 @@ py::object evaluate(const Model& self, const py::handle& faces, const py::handle
 constexpr int kProjectionResolution = 4;
 constexpr int kProjectionSteps = 30;
 
-// The closest surface point to `target` found by Newton's method from the closest point of the
-// tessellation (its parameter interpolated from the triangle's corners when they lie in one
-// face) and from the triangle's corners (those that are surface points, not the means that close
-// a hole): the best of these local minima.
-spline::SurfaceProjection projectFromTriangle(const Model& self,
-                                              const spline::ModelTessellation& tessellation,
-                                              const structure::ClosestPoint& hit,
-                                              const Eigen::Vector3d& target) {
-  std::vector<FacePoint> starts;
-  FacePoint interpolated{-1, Eigen::Vector2d::Zero()};
-  const auto& corners = tessellation.mesh.faces[std::size_t(hit.face)];
-  for (std::size_t c = 0; c < 3; ++c) {
-    const std::int64_t v = corners[c];
-    if (std::binary_search(tessellation.meanVertices.begin(), tessellation.meanVertices.end(), v))
-      continue;
-    const FacePoint& corner =
-        tessellation.samplePoints[std::size_t(tessellation.sampleOffsets[std::size_t(v)])];
-    starts.push_back(corner);
-    if (c == 0) interpolated.face = corner.face;
-    if (corner.face == interpolated.face)
-      interpolated.position += hit.barycentric[Eigen::Index(c)] * corner.position;
-  }
-  if (starts.size() == 3 && interpolated.face == starts[1].face &&
-      interpolated.face == starts[2].face)
-    starts.insert(starts.begin(), interpolated);
-  spline::SurfaceProjection best{{}, std::numeric_limits<double>::quiet_NaN()};
-  for (const FacePoint& start : starts) {
-    const spline::SurfaceProjection projection = spline::projectOntoSurface(
-        self.surface->fitSpace(), self.model.controlPoints, start, target, kProjectionSteps);
-    if (std::isnan(best.distance) || projection.distance < best.distance) best = projection;
-  }
-  return best;
-}
-
 py::dict project(const Model& self, const py::handle& points) {
   const Eigen::MatrixX3d targets = toPoints(realMatrix(points, "points", 3));
   std::vector<FacePoint> parameters(std::size_t(targets.rows()));
@@ -173,21 +139,14 @@ py::dict project(const Model& self, const py::handle& points) {
     py::gil_scoped_release release;
     const spline::ModelTessellation tessellation =
         self.surface->tessellate(self.model.controlPoints, kProjectionResolution);
-    const structure::PolygonSoup& soup = tessellation.mesh;
-    Eigen::MatrixX3d positions(Eigen::Index(soup.positions.size()), 3);
-    for (std::size_t v = 0; v < soup.positions.size(); ++v)
-      positions.row(Eigen::Index(v)) << soup.positions[v][0], soup.positions[v][1],
-          soup.positions[v][2];
-    std::vector<std::array<int, 3>> triangles;
-    for (const auto& f : soup.faces) triangles.push_back({int(f[0]), int(f[1]), int(f[2])});
-    const structure::TriangleMeshDistance near(positions, triangles);
-    const std::vector<structure::ClosestPoint> hits = near.queryAll(targets);
-    tbb::parallel_for(std::size_t(0), parameters.size(), [&](std::size_t k) {
-      const spline::SurfaceProjection projection = projectFromTriangle(
-          self, tessellation, hits[k], targets.row(Eigen::Index(k)).transpose());
-      parameters[k] = projection.parameter;
-      distances[Eigen::Index(k)] = projection.distance;
-    });
+    const std::vector<spline::ClosestSurfacePoint> found = spline::closestSurfacePoints(
+        *self.surface, self.model.controlPoints, tessellation, targets, {}, kProjectionSteps);
+    // Where the spline is undefined at every start: no point.
+    for (std::size_t k = 0; k < found.size(); ++k) {
+      parameters[k] = found[k].onSpline ? found[k].parameter : FacePoint{};
+      distances[Eigen::Index(k)] =
+          found[k].onSpline ? found[k].distance : std::numeric_limits<double>::quiet_NaN();
+    }
     closest = evaluateAll(self, parameters);
   }
   py::dict out = parametersDict(self, parameters);

@@ -1,6 +1,7 @@
 #include "mspline/spline/quality/surface_quality.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 #include <tuple>
@@ -162,23 +163,17 @@ bool tangents(const FitSpace& space, const Eigen::MatrixXd& control, const FaceP
   return !terms.empty() && ds.allFinite() && dt.allFinite();
 }
 
-// A scan vertex's closest point on the surface.
-struct Projection {
-  double distance = std::numeric_limits<double>::quiet_NaN();
-  FacePoint parameter;
-  Vector3d position = Vector3d::Zero();
-  bool converged = true;
-};
-
 // projectOntoSurface from `start`, and whether it ended at a critical point of the distance: the
 // offset to x along the surface normal to 1e-3 rad (then the distance is within 5e-7 of it of
-// the local minimum's), or x on the surface to `onSurface`.
-Projection project(const FitSpace& space, const Eigen::MatrixXd& control, const Vector3d& x,
-                   const FacePoint& start, int steps, double onSurface,
-                   std::vector<FitBasisTerm>& terms) {
+// the local minimum's), or x on the surface to `onSurface`. Not on the spline where it is
+// undefined at the start.
+ClosestSurfacePoint project(const FitSpace& space, const Eigen::MatrixXd& control,
+                            const Vector3d& x, const FacePoint& start, int steps, double onSurface,
+                            std::vector<FitBasisTerm>& terms) {
   const SurfaceProjection found = projectOntoSurface(space, control, start, x, steps);
-  Projection out;
+  ClosestSurfacePoint out;
   if (!std::isfinite(found.distance)) return out;
+  out.onSpline = true;
   out.distance = found.distance;
   out.parameter = found.parameter;
   out.position = evaluateFitSurface(space, control, found.parameter);
@@ -254,7 +249,7 @@ std::pair<Eigen::MatrixX3d, std::vector<std::array<int, 3>>> scanTriangles(
 }
 
 // Distances both ways and the folds against the scan's normals.
-void measureAgainstScan(const FitSpace& space, const Eigen::MatrixXd& control,
+void measureAgainstScan(const ModelSurface& surface, const Eigen::MatrixXd& control,
                         const structure::TriMesh& scan, const std::vector<FacePoint>& fitted,
                         const MeasuredTessellation& coarse, const MeasuredTessellation& fine,
                         const QualityOptions& options, SurfaceQuality& quality) {
@@ -264,49 +259,10 @@ void measureAgainstScan(const FitSpace& space, const Eigen::MatrixXd& control,
   const double unit = d.diagonal > 0.0 ? d.diagonal : 1.0;
   const structure::TriangleMeshDistance scanDistance(scanPoints, scanFaces);
 
-  // Scan to surface: from the closest point of the fine tessellation (all of it: the surface is
-  // there, over the fills too), Newton on the spline from the nearest corner with a derivative.
-  const PolygonSoup& soup = fine.t.mesh;
-  const structure::TriangleMeshDistance tessellationDistance(structure::pointMatrix(soup.positions),
-                                                             structure::triangleIndices(soup));
-  const std::vector<structure::ClosestPoint> nearest = tessellationDistance.queryAll(scanPoints);
-  std::vector<char> isMean(soup.positions.size(), 0);
-  for (const std::int64_t v : fine.t.meanVertices) isMean[std::size_t(v)] = 1;
-  std::vector<Projection> projections(nearest.size());
-  tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, nearest.size(), 256), [&](const auto& range) {
-        std::vector<FitBasisTerm> terms;
-        for (std::size_t k = range.begin(); k < range.end(); ++k) {
-          const structure::ClosestPoint& hit = nearest[k];
-          const auto& corners = soup.faces[std::size_t(hit.face)];
-          int corner = -1;
-          for (int c = 0; c < 3; ++c)
-            if (!isMean[std::size_t(corners[std::size_t(c)])] &&
-                (corner < 0 || hit.barycentric[c] > hit.barycentric[corner]))
-              corner = c;
-          Projection& out = projections[k];
-          const Vector3d x = scanPoints.row(Eigen::Index(k)).transpose();
-          if (corner >= 0) {
-            const std::int64_t v = corners[std::size_t(corner)];
-            out = project(space, control, x,
-                          fine.t.samplePoints[std::size_t(fine.t.sampleOffsets[std::size_t(v)])],
-                          options.newtonSteps, 1e-9 * unit, terms);
-          }
-          // The fit's own parameters, a second start: across a cone's hole Newton cannot walk.
-          if (k < fitted.size()) {
-            const Projection again =
-                project(space, control, x, fitted[k], options.newtonSteps, 1e-9 * unit, terms);
-            if (!(again.distance >= out.distance)) out = again;
-          }
-          // Where the spline is undefined around the start (a cone's hole), the tessellation there.
-          if (!std::isfinite(out.distance)) {
-            out.distance = hit.distance;
-            out.position = hit.closest;
-            out.parameter = fine.locate(corners[0]).parameter;
-            out.converged = true;
-          }
-        }
-      });
+  // Scan to surface: Newton on the spline from the fine tessellation (all of it: the surface is
+  // there, over the fills too) and from the fit's parameters.
+  const std::vector<ClosestSurfacePoint> projections =
+      closestSurfacePoints(surface, control, fine.t, scanPoints, fitted, options.newtonSteps);
   std::vector<double> distances(projections.size());
   for (std::size_t k = 0; k < projections.size(); ++k) {
     distances[k] = projections[k].distance;
@@ -318,10 +274,12 @@ void measureAgainstScan(const FitSpace& space, const Eigen::MatrixXd& control,
   if (options.details) {
     quality.details.scanDistances =
         Eigen::Map<Eigen::VectorXd>(distances.data(), Eigen::Index(distances.size()));
-    for (const Projection& p : projections) quality.details.scanClosest.push_back(p.parameter);
+    for (const ClosestSurfacePoint& p : projections)
+      quality.details.scanClosest.push_back(p.parameter);
   }
 
   // Surface to scan: the fine tessellation's vertices on kept faces.
+  const PolygonSoup& soup = fine.t.mesh;
   std::vector<char> used(soup.positions.size(), 0);
   for (std::size_t f = 0; f < soup.faces.size(); ++f)
     if (fine.kept[f])
@@ -478,7 +436,7 @@ SurfaceQuality measureQuality(const SplineModel& model, const ModelSurface& surf
     const std::vector<FacePoint> none;
     const std::vector<FacePoint>& fitted =
         model.kind == SplineKind::TriangularBSpline ? none : model.surfaceVertexTMeshPoints;
-    measureAgainstScan(surface.fitSpace(), control, *scan, fitted, coarse, fine, options, quality);
+    measureAgainstScan(surface, control, *scan, fitted, coarse, fine, options, quality);
   }
   quality.seconds = clock.lap();
   structure::report(progress, "quality measured", 1.0);
@@ -489,6 +447,70 @@ SurfaceQuality measureQuality(const SplineModel& model, const structure::TriMesh
                               const QualityOptions& options, const structure::Progress& progress) {
   const ModelSurface surface(model, options.name);
   return measureQuality(model, surface, model.controlPoints, scan, options, progress);
+}
+
+std::vector<ClosestSurfacePoint> closestSurfacePoints(const ModelSurface& surface,
+                                                      const Eigen::MatrixXd& control,
+                                                      const ModelTessellation& tessellation,
+                                                      const Eigen::MatrixX3d& points,
+                                                      const std::vector<FacePoint>& starts,
+                                                      int newtonSteps) {
+  const FitSpace& space = surface.fitSpace();
+  const PolygonSoup& soup = tessellation.mesh;
+  const structure::TriangleMeshDistance near(structure::pointMatrix(soup.positions),
+                                             structure::triangleIndices(soup));
+  const std::vector<structure::ClosestPoint> hits = near.queryAll(points);
+  // Converged: the point on the surface to 1e-9 of the tessellation's size.
+  const double onSurface = 1e-9 * structure::boundingBoxDiagonal(soup.positions);
+  std::vector<ClosestSurfacePoint> out(hits.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.size(), 256), [&](const auto& range) {
+    std::vector<FitBasisTerm> terms;
+    std::vector<FacePoint> from;
+    for (std::size_t k = range.begin(); k < range.end(); ++k) {
+      const structure::ClosestPoint& hit = hits[k];
+      const auto& corners = soup.faces[std::size_t(hit.face)];
+      // The triangle's corners that are surface points (not the means that close a hole), the
+      // nearest first, and its closest point's parameter interpolated when they lie in one face.
+      from.clear();
+      FacePoint interpolated{-1, Eigen::Vector2d::Zero()};
+      std::array<int, 3> order{0, 1, 2};
+      std::sort(order.begin(), order.end(),
+                [&](int a, int b) { return hit.barycentric[a] > hit.barycentric[b]; });
+      for (const int c : order) {
+        const std::int64_t v = corners[std::size_t(c)];
+        if (std::binary_search(tessellation.meanVertices.begin(), tessellation.meanVertices.end(),
+                               v))
+          continue;
+        const FacePoint& corner =
+            tessellation.samplePoints[std::size_t(tessellation.sampleOffsets[std::size_t(v)])];
+        from.push_back(corner);
+        if (from.size() == 1) interpolated.face = corner.face;
+        if (corner.face == interpolated.face)
+          interpolated.position += hit.barycentric[c] * corner.position;
+      }
+      if (from.size() == 3 && interpolated.face == from[1].face &&
+          interpolated.face == from[2].face)
+        from.insert(from.begin() + 1, interpolated);
+      if (k < starts.size()) from.push_back(starts[k]);
+      const Vector3d x = points.row(Eigen::Index(k)).transpose();
+      ClosestSurfacePoint& best = out[k];
+      // The first critical point found ends the search (the starts are the closest point's
+      // nearest parameters): the others only matter where Newton stopped short of one.
+      for (std::size_t i = 0; i < from.size() && !(best.onSpline && best.converged); ++i) {
+        const ClosestSurfacePoint found =
+            project(space, control, x, from[i], newtonSteps, onSurface, terms);
+        if (found.onSpline && !(found.distance >= best.distance)) best = found;
+      }
+      if (!best.onSpline) {
+        best.distance = hit.distance;
+        best.position = hit.closest;
+        best.parameter =
+            tessellation
+                .samplePoints[std::size_t(tessellation.sampleOffsets[std::size_t(corners[0])])];
+      }
+    }
+  });
+  return out;
 }
 
 std::vector<char> creasedFaces(const structure::PolygonSoup& tessellation, double creaseDegrees) {

@@ -66,20 +66,17 @@ struct DistanceSpread {
 struct SurfaceDistances {
   /// The scan's bounding-box diagonal (the unit of the spreads).
   double diagonal = 0.0;
-  /// Every scan vertex to its closest point on the spline surface: Newton projection on the spline
-  /// from the closest point of the finer tessellation and, for the T-mesh kinds, from the vertex's
-  /// parameters in the model (SplineModel::surfaceVertexTMeshPoints, what the fit found), the
-  /// nearer one. The surface includes the parts over fill patches, where the surface also is.
-  /// Vertices of the model's fill patches are not the scan's and not measured.
+  /// Every scan vertex to its closest point on the spline surface (closestSurfacePoints from the
+  /// finer tessellation and, for the T-mesh kinds, from the vertex's parameters in the model,
+  /// SplineModel::surfaceVertexTMeshPoints: what the fit found). The surface includes the parts
+  /// over fill patches, where the surface also is. Vertices of the model's fill patches are not the
+  /// scan's and not measured.
   DistanceSpread scanToSurface;
   /// Every vertex of the finer tessellation over the scan to its closest point on the scan's
   /// triangles.
   DistanceSpread surfaceToScan;
-  /// Newton projections that did not end at a critical point of the distance (the offset from the
-  /// surface not along its normal to 1e-3 rad, which would put the distance within 5e-7 of it of
-  /// the local minimum's; the scan vertex not on the surface to 1e-9 of the diagonal): their
-  /// distance is the best one met, an upper bound. Where the surface is singular (no normal) a
-  /// projection counts as converged.
+  /// Scan vertices whose closest point is not converged (ClosestSurfacePoint::converged): their
+  /// distance is the best one met, an upper bound.
   int unconvergedProjections = 0;
 };
 
@@ -189,6 +186,35 @@ SurfaceQuality measureQuality(const SplineModel& model, const ModelSurface& surf
 SurfaceQuality measureQuality(const SplineModel& model, const structure::TriMesh* scan,
                               const QualityOptions& options = {},
                               const structure::Progress& progress = {});
+
+/// A point's closest point on a spline surface.
+struct ClosestSurfacePoint {
+  /// Found by Newton's method on the spline; false where the spline is undefined at every start
+  /// (around a cone's hole): then the closest point of the tessellation, with the parameter of a
+  /// corner of its triangle.
+  bool onSpline = false;
+  /// The distance, the closest point's parameter and position.
+  double distance = std::numeric_limits<double>::quiet_NaN();
+  FacePoint parameter;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  /// A critical point of the distance: the offset along the surface normal to 1e-3 rad (the
+  /// distance then within 5e-7 of it of the local minimum's), or the point on the surface to 1e-9
+  /// of the tessellation's bounding-box diagonal; true where the surface is singular (no normal).
+  bool converged = true;
+};
+
+/// The closest points of `points` (rows) on the surface of `surface` with control points
+/// `control`, on all cores: Newton's method (spline/fitting/surface_fit.h's projectOntoSurface,
+/// `newtonSteps` at most) from the closest point of `tessellation` (a tessellation of that surface:
+/// its triangle's nearest corner that is a surface point, the closest point's parameter
+/// interpolated from the corners when they lie in one face, the other corners) and from starts[k]
+/// when k < starts.size(), in that order until one converges; the nearest point found.
+std::vector<ClosestSurfacePoint> closestSurfacePoints(const ModelSurface& surface,
+                                                      const Eigen::MatrixXd& control,
+                                                      const ModelTessellation& tessellation,
+                                                      const Eigen::MatrixX3d& points,
+                                                      const std::vector<FacePoint>& starts = {},
+                                                      int newtonSteps = 12);
 
 /// Per triangle of `tessellation`, 1 when a neighbour across an edge has a normal that differs
 /// from its own by more than `creaseDegrees`: the creases, and the folds between neighbours (above

@@ -82,7 +82,8 @@ TEST_CASE("surface_quality: a flat patch is flat, fold-free and on its planar sc
   // Every scan vertex is measured, and lies on the surface; the surface covers the scan exactly
   // (a tensor-product grid with planar control points has a rectangle as image).
   CHECK(q.distances.scanToSurface.count == int(scan.n_vertices()));
-  CHECK(q.distances.scanToSurface.max < 1e-12);
+  // (Newton stops where its gains are at the rounding of the positions.)
+  CHECK(q.distances.scanToSurface.max < 1e-10);
   CHECK(q.distances.surfaceToScan.max < 1e-12);
   CHECK(q.distances.unconvergedProjections == 0);
   // Uniform in the middle, squeezed towards the open boundary by the normalization.
