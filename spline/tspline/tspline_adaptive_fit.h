@@ -10,8 +10,8 @@
 // closest scan points) and their faces are refined like the samples'; faces where the surface
 // folds get a stiffer fairing term instead (more freedom would not unfold them); and the
 // tolerance is reached only when the measurement accepts the surface too. Faces near an
-// extraordinary vertex are never split: the surface there is built from the regular grid around
-// it, which T-junctions would break.
+// extraordinary vertex are never split, stiffened or given stray samples: the surface there is
+// built from the regular grid around the vertex, which T-junctions would break.
 #include <functional>
 #include <vector>
 
@@ -47,8 +47,8 @@ struct TSplineAdaptiveFitOptions {
   int maxControlPoints = 8000;
   /// At most this many refinement rounds.
   int maxRefinements = 6;
-  /// Faces with a vertex within this many rings of faces around an extraordinary vertex are not
-  /// split.
+  /// Faces with a vertex within this many rings of faces around an extraordinary vertex are left
+  /// as they are (see above).
   int coneRings = 2;
   /// The fairing factor of a face where the surface folded is multiplied by this each round.
   double foldFairing = 10.0;

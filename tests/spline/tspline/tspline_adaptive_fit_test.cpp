@@ -175,7 +175,8 @@ TEST_CASE("tspline_adaptive_fit: a fold stiffens the fairing there instead of re
 
 TEST_CASE("tspline_adaptive_fit: faces near an extraordinary vertex are not split", "[spline]") {
   // A cube's T-mesh (8 corners of valence 3) fitted to a sphere; the measurement reports a stray
-  // point on every face, so every face may be split except those within two rings of a corner.
+  // point on every face, so every face may be split and take a stray sample, except those with a
+  // vertex within two rings of faces of a corner.
   const int k = 8;
   const test::CubeTMesh cube = test::cubeTMesh(k);
   const auto onSphere = [&](const spline::FacePoint& p) {
@@ -238,4 +239,6 @@ TEST_CASE("tspline_adaptive_fit: faces near an extraordinary vertex are not spli
   INFO("split " << split << " kept " << kept);
   CHECK(split > 0);
   CHECK(kept > 0);
+  // Stray points near the corners are not samples either.
+  CHECK(result.rounds.front().addedSamples == split);
 }
