@@ -1,8 +1,12 @@
 // mspline check: a spline model evaluated at random surface points in every chart holding each,
-// with its partition of unity and denominators (spline/model/check_model.h).
+// with its partition of unity and denominators (spline/model/check_model.h), and its quality,
+// against its scan when given (spline/quality/surface_quality.h).
 #include <iostream>
+#include <optional>
 
 #include "cli/command.h"
+#include "cli/quality_json.h"
+#include "mspline/io/load_mesh.h"
 #include "mspline/io/spline_model_file.h"
 #include "mspline/spline/model/check_model.h"
 #include "mspline/structure/core/stopwatch.h"
@@ -13,6 +17,8 @@ namespace {
 
 struct CheckArguments {
   std::string model;
+  std::string scan;
+  spline::QualityOptions quality;
   int samples = 10000;
   int knotSamples = 500;
   unsigned seed = 1;
@@ -91,7 +97,9 @@ void addCheckCommand(CLI::App& app, Command& command) {
       "away from cones, "
       "where it is 1 up to rounding: the DMS edge terms of two neighbouring faces cancel, each "
       "evaluated in its own chart, which leaves about 1e-12). Exits 3 when a figure fails its "
-      "bound (chart discrepancy 1e-12 of the diagonal, partition of unity 1e-11).");
+      "bound (chart discrepancy 1e-12 of the diagonal, partition of unity 1e-11). Reports the "
+      "surface's quality (distances to --scan both ways, folds, dihedral angles at two "
+      "resolutions, regularity); a subdivision model only that.");
   sub->add_option("MODEL", arguments->model, "Model file (.msp)")->required();
   sub->add_option("--samples", arguments->samples, "Random surface points (default 10000)")
       ->check(CLI::Range(1, 100000000));
@@ -100,10 +108,17 @@ void addCheckCommand(CLI::App& app, Command& command) {
                   "chart (slow; default 500)")
       ->check(CLI::Range(0, 100000000));
   sub->add_option("--seed", arguments->seed, "Seed of the random points (default 1)");
+  sub->add_option("--scan", arguments->scan,
+                  "The scan the model was fitted to: the quality also measures the distances both "
+                  "ways and the folds against the scan's normals");
+  sub->add_option("--quality-resolution", arguments->quality.resolution,
+                  "Samples per face side of the coarser tessellation the quality measures; the "
+                  "finer one has twice as many (default 3)")
+      ->check(CLI::Range(1, 64));
   sub->add_flag("--json", command.json, "Print one JSON object on stdout");
   sub->callback([&command, arguments] {
     command.name = "check";
-    command.files = {arguments->model};
+    command.files = {arguments->model, arguments->scan};
     command.run = [&command, arguments] {
       const CheckArguments& a = *arguments;
       structure::Stopwatch clock;
@@ -111,16 +126,36 @@ void addCheckCommand(CLI::App& app, Command& command) {
       options.samples = a.samples;
       options.knotSamples = a.knotSamples;
       options.seed = a.seed;
-      const spline::CheckResult result =
-          spline::checkModel(io::readSplineModel(a.model), a.model, options);
+      const spline::SplineModel model = io::readSplineModel(a.model);
+      std::optional<io::LoadedMesh> scan;
+      if (!a.scan.empty()) scan = io::loadMesh(a.scan);
+      // The quality first: a scan that is not the model's fails before the chart checks.
+      spline::QualityOptions qualityOptions = a.quality;
+      qualityOptions.name = a.model;
+      qualityOptions.scanName = a.scan;
+      const spline::SurfaceQuality quality =
+          spline::measureQuality(model, scan ? &*scan->mesh : nullptr, qualityOptions);
+      // A subdivision surface (OpenSubdiv's evaluation) has no charts to compare: its quality only.
+      const bool subd = model.kind == spline::SplineKind::Subdivision;
+      spline::CheckResult result;
+      result.passed = true;
+      if (!subd) result = spline::checkModel(model, a.model, options);
       if (command.json) {
-        Json report = result.kind == spline::SplineKind::TSpline
+        Json report = subd ? Json{{"file", a.model},
+                                  {"kind", "subd"},
+                                  {"control_points", model.controlPoints.rows()},
+                                  {"note", "a subdivision surface has no charts to compare"},
+                                  {"passed", true}}
+                      : result.kind == spline::SplineKind::TSpline
                           ? tsplineReport(a.model, result)
                           : triBSplineReport(a.model, result);
+        if (scan) report["scan"] = a.scan;
+        report["quality"] = qualityJson(quality);
         report["seconds"] = clock.lap();
         printJson(report);
       } else {
-        printSummary(result);
+        if (!subd) printSummary(result);
+        std::cout << qualitySummary(quality) << std::endl;
       }
       return result.passed ? int(kExitSuccess) : int(kExitComputationFailed);
     };

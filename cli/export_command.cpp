@@ -1,9 +1,10 @@
 // mspline export: the evaluated surface of a spline model as a triangle mesh, with normals and
 // chart coordinates, and optionally its control net, an error map of a scan and a picture
-// (io/export_model.h).
+// (io/export_model.h); its quality (spline/quality/surface_quality.h) in the report.
 #include <iostream>
 
 #include "cli/command.h"
+#include "cli/quality_json.h"
 #include "mspline/io/export_model.h"
 #include "mspline/io/spline_model_file.h"
 #include "mspline/structure/core/stopwatch.h"
@@ -20,6 +21,8 @@ struct ExportArguments {
   std::string controlNet;
   std::vector<std::string> errorMap;  // SCAN OUT.ply
   std::string png;
+  bool markDefects = false;
+  double creaseDegrees = 30.0;
 };
 
 Json controlNetReport(const std::string& path, const spline::ExportResult& exported) {
@@ -59,11 +62,16 @@ int runExport(const ExportArguments& a, const Command& command) {
     options.errorMap = a.errorMap[1];
   }
   options.png = a.png;
+  options.markDefects = a.markDefects;
+  options.creaseDegrees = a.creaseDegrees;
   // Refuse bad output names before reading the model.
   io::checkExportFiles(options);
   structure::Stopwatch clock;
-  const io::ExportFileResult result =
-      io::exportModel(io::readSplineModel(a.model), a.model, options);
+  const spline::SplineModel model = io::readSplineModel(a.model);
+  const io::ExportFileResult result = io::exportModel(model, a.model, options);
+  spline::QualityOptions qualityOptions;
+  qualityOptions.name = a.model;
+  const spline::SurfaceQuality quality = spline::measureQuality(model, nullptr, qualityOptions);
   const spline::ExportResult& exported = result.surface;
   const spline::ModelTessellation& surface = exported.surface;
 
@@ -91,6 +99,8 @@ int runExport(const ExportArguments& a, const Command& command) {
   if (!a.controlNet.empty()) report["control_net"] = controlNetReport(a.controlNet, exported);
   if (!a.errorMap.empty()) report["error_map"] = errorMapReport(options, result.scanErrors);
   if (!a.png.empty()) report["png"] = a.png;
+  if (!a.png.empty() && a.markDefects) report["marked_faces"] = result.markedFaces;
+  report["quality"] = qualityJson(quality);
   report["seconds"] = clock.lap();
   if (command.json) {
     printJson(report);
@@ -100,6 +110,10 @@ int runExport(const ExportArguments& a, const Command& command) {
     if (!a.errorMap.empty())
       std::cout << "error map " << a.errorMap[1] << ": rms " << result.scanErrors.rms << ", max "
                 << result.scanErrors.max << " of the scan's diagonal" << std::endl;
+    if (!a.png.empty() && a.markDefects)
+      std::cout << "marked " << result.markedFaces << " triangles at creases and folds in " << a.png
+                << std::endl;
+    std::cout << "quality: " << qualitySummary(quality) << std::endl;
   }
   return int(kExitSuccess);
 }
@@ -134,7 +148,16 @@ void addExportCommand(CLI::App& app, Command& command) {
                   "SCAN OUT.ply: the scan with its vertices colored by their distance to the "
                   "exported surface")
       ->expected(2);
-  sub->add_option("--png", arguments->png, "Also write a shaded picture of the surface (PNG)");
+  auto* png =
+      sub->add_option("--png", arguments->png, "Also write a shaded picture of the surface (PNG)");
+  sub->add_flag("--mark-defects", arguments->markDefects,
+                "In the --png picture, draw in red the triangles at a crease or fold: those with "
+                "a neighbour whose normal differs by more than --crease-degrees")
+      ->needs(png);
+  sub->add_option("--crease-degrees", arguments->creaseDegrees,
+                  "The angle between neighbouring triangles' normals above which --mark-defects "
+                  "marks them (default 30, at the export resolution)")
+      ->check(CLI::Range(0.0, 180.0));
   sub->add_flag("--json", command.json, "Print one JSON object on stdout");
   sub->callback([&command, arguments] {
     command.name = "export";

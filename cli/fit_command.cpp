@@ -9,6 +9,7 @@
 
 #include "cli/command.h"
 #include "cli/flatten_options.h"
+#include "cli/quality_json.h"
 #include "cli/spline_space_json.h"
 #include "mspline/io/load_mesh.h"
 #include "mspline/io/spline_model_file.h"
@@ -148,19 +149,19 @@ void addFitCommand(CLI::App& app, Command& command) {
       stages["write"] = clock.lap();
       for (const auto& warning : fit.warnings) bar.line("warning: " + warning);
 
-      const spline::SurfaceErrors& e = fit.errors;
+      const spline::SurfaceDistances& e = fit.quality.distances;
       Json report{{"file", a.scan},
                   {"output", a.output},
                   {"kind", a.kind},
                   {"control_points", fit.model.controlPoints.rows()},
                   {"scan_vertices", loaded.mesh->n_vertices()},
-                  {"scan_vertices_measured", e.measured},
+                  {"scan_vertices_measured", e.scanToSurface.count},
                   {"filled_holes", fit.filledHoles},
-                  {"rms_error", e.rms},
-                  {"max_error", e.max},
-                  {"rms_error_surface_to_scan", e.rmsSurfaceToScan},
-                  {"max_error_surface_to_scan", e.maxSurfaceToScan},
-                  {"surface_samples", e.surfaceSamples},
+                  {"rms_error", e.scanToSurface.rms},
+                  {"max_error", e.scanToSurface.max},
+                  {"rms_error_surface_to_scan", e.surfaceToScan.rms},
+                  {"max_error_surface_to_scan", e.surfaceToScan.max},
+                  {"surface_samples", e.surfaceToScan.count},
                   {"tolerance", options.tolerance},
                   {"max_error_wanted", options.maxErrorFactor * options.tolerance},
                   {"reached_tolerance", fit.reachedTolerance},
@@ -178,15 +179,14 @@ void addFitCommand(CLI::App& app, Command& command) {
                    {{"converged", fit.flatten.converged},
                     {"max_curvature_error", fit.flatten.maxCurvatureError},
                     {"flips", fit.flatten.flips}}},
+                  {"quality", qualityJson(fit.quality)},
                   {"seconds", total.lap()},
                   {"stage_seconds", stages}};
       if (command.json) {
         printJson(report);
       } else {
-        std::cout << a.kind << ": " << fit.model.controlPoints.rows()
-                  << " control points; scan to surface rms " << e.rms << " max " << e.max
-                  << ", surface to scan rms " << e.rmsSurfaceToScan << " max " << e.maxSurfaceToScan
-                  << " of the diagonal\nwrote " << a.output << std::endl;
+        std::cout << a.kind << ": " << fit.model.controlPoints.rows() << " control points; "
+                  << qualitySummary(fit.quality) << "\nwrote " << a.output << std::endl;
       }
       return int(kExitSuccess);
     };

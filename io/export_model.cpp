@@ -1,10 +1,13 @@
 #include "mspline/io/export_model.h"
 
+#include <algorithm>
+
 #include "mspline/io/atomic_file.h"
 #include "mspline/io/error_map.h"
 #include "mspline/io/read_mesh.h"
 #include "mspline/io/shaded_picture.h"
 #include "mspline/io/write_mesh.h"
+#include "mspline/spline/quality/surface_quality.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/mesh/bounding_box.h"
 #include "mspline/structure/mesh/closest_point.h"
@@ -69,10 +72,16 @@ ExportFileResult exportModel(const spline::SplineModel& model, const std::string
                   result.surface.controlNet.lines);
   if (!options.scan.empty())
     result.scanErrors = writeErrorMap(options.scan, options.errorMap, surface);
-  if (!options.png.empty())
+  if (!options.png.empty()) {
+    ShadedPictureOptions picture;
+    if (options.markDefects) {
+      picture.marked = spline::creasedFaces(surface.mesh, options.creaseDegrees);
+      result.markedFaces = std::size_t(std::count(picture.marked.begin(), picture.marked.end(), 1));
+    }
     writePng(options.png, renderShaded(structure::pointMatrix(surface.mesh.positions),
                                        structure::triangleIndices(surface.mesh),
-                                       structure::pointMatrix(surface.normals)));
+                                       structure::pointMatrix(surface.normals), picture));
+  }
   outputs.commit();
   return result;
 }

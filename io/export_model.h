@@ -22,8 +22,12 @@ struct ExportFileOptions {
   /// their distance to the exported surface (io/error_map.h).
   std::string scan;
   std::string errorMap;
-  /// Optional: a shaded picture of the surface (PNG, io/shaded_picture.h).
+  /// Optional: a shaded picture of the surface (PNG, io/shaded_picture.h), with the triangles
+  /// at a crease or fold marked in red when `markDefects` (spline::creasedFaces: a neighbour's
+  /// normal differs by more than creaseDegrees, at the export resolution).
   std::string png;
+  bool markDefects = false;
+  double creaseDegrees = 30.0;
 };
 
 /// The scan's distances to the exported surface.
@@ -43,6 +47,8 @@ struct ExportFileResult {
   spline::ExportResult surface;
   /// With a scan: its distances to the surface.
   ScanErrors scanErrors;
+  /// With a picture and markDefects: the triangles marked.
+  std::size_t markedFaces = 0;
 };
 
 /// Throws InputError when a file name of `options` does not fit: an unknown mesh format, a control

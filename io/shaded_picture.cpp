@@ -35,6 +35,9 @@ RasterImage renderShaded(const Eigen::MatrixX3d& positions,
   if (normals.rows() != 0 && normals.rows() != positions.rows())
     throw structure::InputError("shaded picture: " + std::to_string(normals.rows()) +
                                 " normals for " + std::to_string(positions.rows()) + " vertices");
+  if (!options.marked.empty() && options.marked.size() != triangles.size())
+    throw structure::InputError("shaded picture: " + std::to_string(options.marked.size()) +
+                                " marks for " + std::to_string(triangles.size()) + " triangles");
   for (std::size_t f = 0; f < triangles.size(); ++f)
     for (int v : triangles[f])
       if (v < 0 || v >= positions.rows())
@@ -64,7 +67,10 @@ RasterImage renderShaded(const Eigen::MatrixX3d& positions,
   const Vector3d light = Vector3d(-0.4, 0.5, 1.0).normalized();
   std::vector<double> depth(image.pixels.size(), std::numeric_limits<double>::infinity());
 
-  for (const auto& t : triangles) {
+  for (std::size_t f = 0; f < triangles.size(); ++f) {
+    const auto& t = triangles[f];
+    const Rgb color =
+        !options.marked.empty() && options.marked[f] ? options.markColor : options.color;
     std::array<Vector3d, 3> x, n;
     std::array<Vector2d, 3> p;
     for (int k = 0; k < 3; ++k) {
@@ -101,9 +107,8 @@ RasterImage renderShaded(const Eigen::MatrixX3d& positions,
         if (normal.z() < 0.0) normal = -normal;
         const double brightness =
             options.ambient + (1.0 - options.ambient) * std::max(0.0, normal.dot(light));
-        image.at(xx, y) = {channel(options.color.r, brightness),
-                           channel(options.color.g, brightness),
-                           channel(options.color.b, brightness)};
+        image.at(xx, y) = {channel(color.r, brightness), channel(color.g, brightness),
+                           channel(color.b, brightness)};
       }
   }
   return image;

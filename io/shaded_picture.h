@@ -25,12 +25,17 @@ struct ShadedPictureOptions {
   Rgb color = {170, 185, 215};
   Rgb background = {255, 255, 255};
   double ambient = 0.25;
+  /// Per triangle, 1 to draw it in `markColor` instead of `color` (shaded alike), e.g. the creases
+  /// and folds export marks; empty: none.
+  std::vector<char> marked;
+  Rgb markColor = {225, 30, 30};
 };
 
 /// The mesh (`positions` one row per vertex, `triangles` indexing them) shaded with `normals`
 /// (one unit normal per vertex, interpolated across each triangle and renormalized; empty: each
 /// triangle's own normal, flat shading). Throws InputError for an index out of range, normals
-/// that are not one per vertex, or a non-positive image size.
+/// that are not one per vertex, marks that are not one per triangle, or a non-positive image
+/// size.
 RasterImage renderShaded(const Eigen::MatrixX3d& positions,
                          const std::vector<std::array<int, 3>>& triangles,
                          const Eigen::MatrixX3d& normals, const ShadedPictureOptions& options = {});

@@ -1,6 +1,6 @@
 // mspline.fit and Model.quality: the library's fitting pipeline (spline::fitScan) and its
-// measurement (spline::measureAgainstScan) on arrays, without the GIL, with progress through a
-// Python callable.
+// measurement (spline::measureQuality's distances) on arrays, without the GIL, with progress
+// through a Python callable.
 #include <optional>
 #include <string>
 #include <utility>
@@ -8,7 +8,7 @@
 #include <pybind11/stl.h>
 
 #include "mspline/spline/model/fit_scan.h"
-#include "mspline/spline/model/scan_errors.h"
+#include "mspline/spline/quality/surface_quality.h"
 #include "python/src/arrays.h"
 #include "python/src/pipelines.h"
 
@@ -17,23 +17,25 @@ namespace mspline::python {
 namespace {
 
 // The keys of `mspline fit --json` (with the 99th percentiles and the diagonal besides).
-py::dict errorsDict(const spline::SurfaceErrors& errors) {
+py::dict errorsDict(const spline::SurfaceQuality& quality) {
+  const spline::SurfaceDistances& d = quality.distances;
   py::dict out;
-  out["rms_error"] = errors.rms;
-  out["p99_error"] = errors.p99;
-  out["max_error"] = errors.max;
-  out["scan_vertices_measured"] = errors.measured;
-  out["rms_error_surface_to_scan"] = errors.rmsSurfaceToScan;
-  out["p99_error_surface_to_scan"] = errors.p99SurfaceToScan;
-  out["max_error_surface_to_scan"] = errors.maxSurfaceToScan;
-  out["surface_samples"] = errors.surfaceSamples;
-  out["diagonal"] = errors.diagonal;
+  out["rms_error"] = d.scanToSurface.rms;
+  out["p99_error"] = d.scanToSurface.p99;
+  out["max_error"] = d.scanToSurface.max;
+  out["scan_vertices_measured"] = d.scanToSurface.count;
+  out["rms_error_surface_to_scan"] = d.surfaceToScan.rms;
+  out["p99_error_surface_to_scan"] = d.surfaceToScan.p99;
+  out["max_error_surface_to_scan"] = d.surfaceToScan.max;
+  out["surface_samples"] = d.surfaceToScan.count;
+  out["diagonal"] = d.diagonal;
+  out["folds"] = quality.folds.total();
   return out;
 }
 
 py::dict fitReport(const spline::FitResult& result, const spline::FitOptions& options,
                    const Model& model) {
-  py::dict report = errorsDict(result.errors);
+  py::dict report = errorsDict(result.quality);
   report["kind"] = spline::fitKindName(options.kind);
   report["control_points"] = model.model.controlPoints.rows();
   report["filled_holes"] = result.filledHoles;
@@ -97,15 +99,15 @@ Model fit(const py::handle& vertices, const py::handle& faces, const std::string
 
 py::dict quality(const Model& self, const py::handle& vertices, const py::handle& faces) {
   const structure::PolygonSoup soup = toSoup(vertices, faces, "the scan");
-  spline::ScanErrorOptions options;
+  spline::QualityOptions options;
   options.name = self.name;
-  spline::SurfaceErrors errors;
+  spline::SurfaceQuality quality;
   {
     py::gil_scoped_release release;
     const structure::TriMesh scan = validatedMesh(soup);
-    errors = spline::measureAgainstScan(self.model, scan, options);
+    quality = spline::measureQuality(self.model, &scan, options);
   }
-  return errorsDict(errors);
+  return errorsDict(quality);
 }
 
 }  // namespace
@@ -129,8 +131,9 @@ void bindFit(py::module_& module, py::class_<Model>& model) {
       "holds the figures of `mspline fit --json`.");
   model.def("quality", &quality, py::arg("V"), py::arg("F"),
             "The errors both ways against the scan (V, F) the model was fitted to, relative to "
-            "its bounding-box diagonal: dict of rms_error, p99_error, max_error (scan to "
-            "surface), rms_error_surface_to_scan, ..., diagonal.");
+            "its bounding-box diagonal, by exact closest points: dict of rms_error, p99_error, "
+            "max_error (scan to surface), rms_error_surface_to_scan, ..., diagonal, and the "
+            "folds.");
 }
 
 }  // namespace mspline::python

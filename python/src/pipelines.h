@@ -1,6 +1,6 @@
 #pragma once
 // The library's pipelines called from Python: mspline.flatten (structure::flattenSurface),
-// mspline.fit and Model.quality (spline::fitScan, spline::measureAgainstScan), and what they share.
+// mspline.fit and Model.quality (spline::fitScan, spline::measureQuality), and what they share.
 #include <string>
 
 #include <pybind11/pybind11.h>

@@ -246,16 +246,21 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
   if (capped) model.surfaceFaceFilled = filledFace;
   addStageSeconds(result.stageSeconds, "fit", clock.lap());
 
-  // Honest errors: the scan's vertices to the surface (their projections), and points all over
-  // the surface to the scan.
+  // Honest errors: the scan's vertices to their closest points on the surface, points all over
+  // the surface to the scan, and folds.
   report(progress, "measuring the surface against the scan");
-  ScanErrorOptions measure;
+  QualityOptions measure;
   measure.name = name;
-  result.errors = measureAgainstScan(model, scan, measure);
+  measure.scanName = name;
+  result.quality = measureQuality(model, &scan, measure);
   addStageSeconds(result.stageSeconds, "measure", clock.lap());
 
-  result.reachedTolerance = reached && result.errors.rms <= options.tolerance &&
-                            result.errors.max <= options.maxErrorFactor * options.tolerance;
+  const SurfaceDistances& d = result.quality.distances;
+  const double maxError = std::max(d.scanToSurface.max, d.surfaceToScan.max);
+  const double rmsError = std::max(d.scanToSurface.rms, d.surfaceToScan.rms);
+  const int folds = result.quality.folds.total();
+  result.reachedTolerance = reached && rmsError <= options.tolerance &&
+                            maxError <= options.maxErrorFactor * options.tolerance && folds == 0;
   result.withinBudget = model.controlPoints.rows() <= options.maxControl;
   if (!result.withinBudget)
     result.warnings.push_back(
@@ -264,11 +269,12 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
         (options.kind == FitKind::TriBSpline ? " (the domain could not be coarser)"
                                              : " (the quad layout needed smaller cells)"));
   if (!result.reachedTolerance)
-    result.warnings.push_back("the tolerance was not reached (RMS " +
-                              std::to_string(result.errors.rms) + ", max " +
-                              std::to_string(result.errors.max) + " of the diagonal, wanted " +
+    result.warnings.push_back("the tolerance was not reached (RMS " + std::to_string(rmsError) +
+                              ", max " + std::to_string(maxError) +
+                              " of the diagonal, the larger way, wanted " +
                               std::to_string(options.tolerance) + " and " +
-                              std::to_string(options.maxErrorFactor * options.tolerance) + ")");
+                              std::to_string(options.maxErrorFactor * options.tolerance) + "; " +
+                              std::to_string(folds) + " folds)");
   result.correctionRounds = fit.rounds;
   result.smoothing = fit.smoothing;
   result.samplesUndefined = fit.samplesOutside;

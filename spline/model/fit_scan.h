@@ -11,7 +11,7 @@
 
 #include "mspline/spline/core/spline_model.h"
 #include "mspline/spline/model/build_spline.h"
-#include "mspline/spline/model/scan_errors.h"
+#include "mspline/spline/quality/surface_quality.h"
 #include "mspline/structure/core/progress.h"
 #include "mspline/structure/flatten/flatten_surface.h"
 #include "mspline/structure/mesh/tri_mesh.h"
@@ -61,8 +61,9 @@ struct FitFlattenFigures {
 struct FitResult {
   /// The fitted model (control points set), ready to save or evaluate.
   SplineModel model;
-  /// The errors both ways, relative to the scan's diagonal (measureAgainstScan of the model).
-  SurfaceErrors errors;
+  /// The fitted surface measured against the scan (measureQuality of the model): the errors both
+  /// ways relative to the scan's diagonal, folds, smoothness, regularity.
+  SurfaceQuality quality;
   /// The scan's holes closed by fill patches (0 for a closed scan).
   int filledHoles = 0;
   /// The fits made, in order.
@@ -77,8 +78,9 @@ struct FitResult {
   GridFigures grid;
   DomainFigures domain;
   FitFlattenFigures flatten;
-  /// The RMS and maximum errors are within tolerance and maxErrorFactor * tolerance, and the
-  /// control points within the budget (a quad layout can need more).
+  /// reachedTolerance: the RMS and maximum errors both ways (quality.distances) are within
+  /// tolerance and maxErrorFactor * tolerance and the surface has no folds (quality.folds);
+  /// withinBudget: the control points are within the budget (a quad layout can need more).
   bool reachedTolerance = false;
   bool withinBudget = false;
   /// Why the result is weaker than asked (over the budget, tolerance not reached).

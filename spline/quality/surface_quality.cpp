@@ -1,19 +1,524 @@
 #include "mspline/spline/quality/surface_quality.h"
 
-#include <stdexcept>
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include <tbb/parallel_for.h>
+#include <Eigen/Dense>
+
+#include "mspline/spline/model/filled_faces.h"
+#include "mspline/structure/core/constants.h"
+#include "mspline/structure/core/errors.h"
+#include "mspline/structure/core/stopwatch.h"
+#include "mspline/structure/mesh/bounding_box.h"
+#include "mspline/structure/mesh/closest_point.h"
 
 namespace mspline::spline {
 
-SurfaceQuality measureQuality(const SplineModel&, const ModelSurface&, const Eigen::MatrixXd&,
-                              const structure::TriMesh*, const QualityOptions&,
-                              const structure::Progress&) {
-  throw std::logic_error("measureQuality: not implemented yet");
+namespace {
+
+using Eigen::Vector3d;
+using structure::PolygonSoup;
+
+double degrees(double cosine) {
+  return std::acos(std::clamp(cosine, -1.0, 1.0)) * 180.0 / kPi;
+}
+
+Vector3d positionOf(const PolygonSoup& soup, std::int64_t v) {
+  const auto& p = soup.positions[std::size_t(v)];
+  return {p[0], p[1], p[2]};
+}
+
+// The value at rank ceil(q n) - 1 of the sorted values (the smallest value that at least a share
+// q of them do not exceed); `values` is reordered.
+double percentile(std::vector<double>& values, double q) {
+  if (values.empty()) return 0.0;
+  const std::size_t rank = std::min(
+      values.size() - 1, std::size_t(std::max(1.0, std::ceil(q * double(values.size()))) - 1));
+  std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(rank), values.end());
+  return values[rank];
+}
+
+// Faces a and b of a triangle soup share the edge from vertex `from` to `to`.
+struct FacePair {
+  int a, b;
+  std::int64_t from, to;
+};
+
+// The faces' unit normals (zero for a degenerate face) and the pairs of faces marked in `kept`
+// that share an edge, both with a normal.
+struct AdjacentFaces {
+  std::vector<Vector3d> normals;
+  std::vector<FacePair> pairs;
+};
+
+AdjacentFaces adjacentFaces(const PolygonSoup& soup, const std::vector<char>& kept) {
+  AdjacentFaces out;
+  out.normals.resize(soup.faces.size());
+  // Edges as (smaller vertex, larger vertex, face), sorted: an interior edge is two in a row.
+  std::vector<std::tuple<std::int64_t, std::int64_t, int>> edges;
+  edges.reserve(3 * soup.faces.size());
+  for (std::size_t f = 0; f < soup.faces.size(); ++f) {
+    const auto& face = soup.faces[f];
+    const Vector3d a = positionOf(soup, face[0]), b = positionOf(soup, face[1]),
+                   c = positionOf(soup, face[2]);
+    const Vector3d n = (b - a).cross(c - a);
+    const double scale = std::max((b - a).squaredNorm(), (c - a).squaredNorm());
+    out.normals[f] = n.norm() > 1e-12 * scale ? Vector3d(n.normalized()) : Vector3d::Zero();
+    if (!kept[f]) continue;
+    for (std::size_t k = 0; k < face.size(); ++k) {
+      const std::int64_t u = face[k], v = face[(k + 1) % face.size()];
+      edges.emplace_back(std::min(u, v), std::max(u, v), int(f));
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  for (std::size_t k = 0; k < edges.size();) {
+    std::size_t end = k + 1;
+    while (end < edges.size() && std::get<0>(edges[end]) == std::get<0>(edges[k]) &&
+           std::get<1>(edges[end]) == std::get<1>(edges[k]))
+      ++end;
+    // Only manifold edges: a pair across a boundary does not exist, and a non-manifold edge has no
+    // dihedral angle.
+    if (end == k + 2) {
+      const int a = std::get<2>(edges[k]), b = std::get<2>(edges[k + 1]);
+      if (!out.normals[std::size_t(a)].isZero() && !out.normals[std::size_t(b)].isZero())
+        out.pairs.push_back({a, b, std::get<0>(edges[k]), std::get<1>(edges[k])});
+    }
+    k = end;
+  }
+  return out;
+}
+
+double pairDegrees(const AdjacentFaces& faces, const FacePair& pair) {
+  return degrees(faces.normals[std::size_t(pair.a)].dot(faces.normals[std::size_t(pair.b)]));
+}
+
+// A tessellation with what every measure of it needs: which faces are over the scan, and the
+// normals and adjacent pairs of those.
+struct MeasuredTessellation {
+  ModelTessellation t;
+  std::vector<char> kept;
+  AdjacentFaces faces;
+
+  SurfaceLocation locate(std::int64_t vertex) const {
+    return {positionOf(t.mesh, vertex),
+            t.samplePoints[std::size_t(t.sampleOffsets[std::size_t(vertex)])]};
+  }
+  Vector3d centroid(std::size_t face) const {
+    Vector3d sum = Vector3d::Zero();
+    for (const auto v : t.mesh.faces[face]) sum += positionOf(t.mesh, v);
+    return sum / double(t.mesh.faces[face].size());
+  }
+};
+
+MeasuredTessellation measuredTessellation(const SplineModel& surfaceModel,
+                                          const ModelSurface& surface,
+                                          const Eigen::MatrixXd& control, int resolution) {
+  MeasuredTessellation m;
+  m.t = surface.tessellate(control, resolution);
+  m.kept = facesOverScan(m.t.mesh, surfaceModel);
+  m.faces = adjacentFaces(m.t.mesh, m.kept);
+  return m;
+}
+
+SurfaceLocation pairLocation(const MeasuredTessellation& m, const FacePair& pair) {
+  SurfaceLocation at = m.locate(pair.from);
+  at.position = 0.5 * (positionOf(m.t.mesh, pair.from) + positionOf(m.t.mesh, pair.to));
+  return at;
+}
+
+DihedralPercentiles dihedrals(const MeasuredTessellation& m, int resolution) {
+  DihedralPercentiles out;
+  out.resolution = resolution;
+  std::vector<double> angles;
+  angles.reserve(m.faces.pairs.size());
+  for (const auto& pair : m.faces.pairs) angles.push_back(pairDegrees(m.faces, pair));
+  out.pairs = int(angles.size());
+  if (angles.empty()) return out;
+  const std::size_t largest =
+      std::size_t(std::max_element(angles.begin(), angles.end()) - angles.begin());
+  out.max = angles[largest];
+  out.maxAt = pairLocation(m, m.faces.pairs[largest]);
+  out.p50 = percentile(angles, 0.5);
+  out.p99 = percentile(angles, 0.99);
+  out.p999 = percentile(angles, 0.999);
+  return out;
+}
+
+// The surface and its derivatives at a point of the domain.
+struct Jet {
+  Vector3d s, ds, dt, dss, dst, dtt;
+};
+
+// The surface at `p` with first and second derivatives; false where it is undefined.
+bool evaluate(const FitSpace& space, const Eigen::MatrixXd& control, const FacePoint& p,
+              std::vector<FitBasisTerm>& terms, Jet& jet) {
+  space.basisAt(p, terms, 2);
+  if (terms.empty()) return false;
+  jet = {Vector3d::Zero(), Vector3d::Zero(), Vector3d::Zero(),
+         Vector3d::Zero(), Vector3d::Zero(), Vector3d::Zero()};
+  for (const FitBasisTerm& b : terms) {
+    const Vector3d c = control.row(b.index).transpose();
+    jet.s += b.value * c;
+    jet.ds += b.ds * c;
+    jet.dt += b.dt * c;
+    jet.dss += b.dss * c;
+    jet.dst += b.dst * c;
+    jet.dtt += b.dtt * c;
+  }
+  return jet.s.allFinite() && jet.ds.allFinite() && jet.dt.allFinite();
+}
+
+struct Projection {
+  double distance = std::numeric_limits<double>::quiet_NaN();
+  FacePoint parameter;
+  Vector3d position = Vector3d::Zero();
+  bool converged = false;
+};
+
+// The closest point of the surface to x by Newton's method on |S(p) - x|^2 from `start` (Gauss-
+// Newton where the Hessian is not positive definite), every step at most a face long and halved
+// until the distance does not grow. Converged when a step moves the surface point by less than
+// `stop`, or when no step descends (a minimum on the boundary of an open surface).
+Projection project(const FitSpace& space, const Eigen::MatrixXd& control, const Vector3d& x,
+                   const FacePoint& start, int steps, double stop,
+                   std::vector<FitBasisTerm>& terms) {
+  Projection best;
+  Jet jet;
+  if (!evaluate(space, control, start, terms, jet)) return best;
+  best = {(jet.s - x).norm(), start, jet.s, false};
+  FacePoint p = start;
+  for (int step = 0; step < steps && !best.converged; ++step) {
+    const Vector3d r = jet.s - x;
+    const Eigen::Vector2d gradient(r.dot(jet.ds), r.dot(jet.dt));
+    Eigen::Matrix2d first;
+    first << jet.ds.dot(jet.ds), jet.ds.dot(jet.dt), jet.ds.dot(jet.dt), jet.dt.dot(jet.dt);
+    Eigen::Matrix2d hessian = first;
+    hessian(0, 0) += r.dot(jet.dss);
+    hessian(0, 1) += r.dot(jet.dst);
+    hessian(1, 0) += r.dot(jet.dst);
+    hessian(1, 1) += r.dot(jet.dtt);
+    const bool definite = hessian(0, 0) > 0.0 && hessian.determinant() > 0.0;
+    Eigen::Matrix2d system = definite ? hessian : first;
+    system.diagonal().array() += 1e-14 * system.trace() + 1e-300;
+    Eigen::Vector2d delta = -system.ldlt().solve(gradient);
+    if (!delta.allFinite()) break;
+    const double limit = space.faceSize(p.face);
+    if (delta.norm() > limit) delta *= limit / delta.norm();
+    bool descended = false;
+    Jet next;
+    for (int halving = 0; halving < 8 && !descended; ++halving, delta *= 0.5) {
+      const FacePoint q = space.walk(p, delta);
+      if (!evaluate(space, control, q, terms, next)) continue;
+      const double distance = (next.s - x).norm();
+      if (distance > best.distance) continue;
+      descended = true;
+      best = {distance, q, next.s, (next.s - jet.s).norm() <= stop};
+      p = q;
+      jet = next;
+    }
+    if (!descended) best.converged = true;
+  }
+  return best;
+}
+
+// Per vertex of `scan`, its unit normal: the sum of its faces' area vectors, normalized.
+std::vector<Vector3d> scanVertexNormals(const structure::TriMesh& scan) {
+  std::vector<Vector3d> normals(scan.n_vertices(), Vector3d::Zero());
+  for (const auto f : scan.faces()) {
+    std::array<Vector3d, 3> p;
+    std::array<int, 3> index{};
+    int k = 0;
+    for (const auto v : scan.fv_range(f)) {
+      const auto& q = scan.point(v);
+      index[std::size_t(k)] = v.idx();
+      p[std::size_t(k++)] = {q[0], q[1], q[2]};
+    }
+    const Vector3d area = (p[1] - p[0]).cross(p[2] - p[0]);
+    for (const int v : index) normals[std::size_t(v)] += area;
+  }
+  for (Vector3d& n : normals)
+    if (n.norm() > 0.0) n.normalize();
+  return normals;
+}
+
+// The spread of `distances` (absolute) relative to `unit`, the maximum at locate(its index).
+template <class Locate>
+DistanceSpread spread(const std::vector<double>& distances, double unit, Locate&& locate) {
+  DistanceSpread out;
+  std::vector<double> finite;
+  finite.reserve(distances.size());
+  std::size_t largest = 0;
+  double squares = 0.0;
+  for (std::size_t k = 0; k < distances.size(); ++k) {
+    if (!std::isfinite(distances[k])) continue;
+    if (finite.empty() || distances[k] > distances[largest]) largest = k;
+    finite.push_back(distances[k]);
+    squares += distances[k] * distances[k];
+  }
+  out.count = int(finite.size());
+  if (finite.empty()) return out;
+  out.rms = std::sqrt(squares / double(finite.size())) / unit;
+  out.max = distances[largest] / unit;
+  out.p99 = percentile(finite, 0.99) / unit;
+  out.maxAt = locate(largest);
+  return out;
+}
+
+// The scan as the matrix of its points and its triangles.
+std::pair<Eigen::MatrixX3d, std::vector<std::array<int, 3>>> scanTriangles(
+    const structure::TriMesh& scan) {
+  Eigen::MatrixX3d points(Eigen::Index(scan.n_vertices()), 3);
+  for (const auto v : scan.vertices())
+    points.row(v.idx()) << scan.point(v)[0], scan.point(v)[1], scan.point(v)[2];
+  std::vector<std::array<int, 3>> faces;
+  faces.reserve(scan.n_faces());
+  for (const auto f : scan.faces()) {
+    std::array<int, 3> corners{};
+    int k = 0;
+    for (const auto v : scan.fv_range(f)) corners[std::size_t(k++)] = v.idx();
+    faces.push_back(corners);
+  }
+  return {std::move(points), std::move(faces)};
+}
+
+// Distances both ways and the folds against the scan's normals.
+void measureAgainstScan(const FitSpace& space, const Eigen::MatrixXd& control,
+                        const structure::TriMesh& scan, const MeasuredTessellation& coarse,
+                        const MeasuredTessellation& fine, const QualityOptions& options,
+                        SurfaceQuality& quality) {
+  auto [scanPoints, scanFaces] = scanTriangles(scan);
+  SurfaceDistances& d = quality.distances;
+  d.diagonal = structure::boundingBoxDiagonal(scanPoints);
+  const double unit = d.diagonal > 0.0 ? d.diagonal : 1.0;
+  const structure::TriangleMeshDistance scanDistance(scanPoints, scanFaces);
+
+  // Scan to surface: from the closest point of the fine tessellation (all of it: the surface is
+  // there, over the fills too), Newton on the spline from the nearest corner with a derivative.
+  const PolygonSoup& soup = fine.t.mesh;
+  const structure::TriangleMeshDistance tessellationDistance(structure::pointMatrix(soup.positions),
+                                                             structure::triangleIndices(soup));
+  const std::vector<structure::ClosestPoint> nearest = tessellationDistance.queryAll(scanPoints);
+  std::vector<char> isMean(soup.positions.size(), 0);
+  for (const std::int64_t v : fine.t.meanVertices) isMean[std::size_t(v)] = 1;
+  std::vector<Projection> projections(nearest.size());
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, nearest.size(), 256), [&](const auto& range) {
+        std::vector<FitBasisTerm> terms;
+        for (std::size_t k = range.begin(); k < range.end(); ++k) {
+          const structure::ClosestPoint& hit = nearest[k];
+          const auto& corners = soup.faces[std::size_t(hit.face)];
+          int corner = -1;
+          for (int c = 0; c < 3; ++c)
+            if (!isMean[std::size_t(corners[std::size_t(c)])] &&
+                (corner < 0 || hit.barycentric[c] > hit.barycentric[corner]))
+              corner = c;
+          Projection& out = projections[k];
+          if (corner >= 0) {
+            const std::int64_t v = corners[std::size_t(corner)];
+            out = project(space, control, scanPoints.row(Eigen::Index(k)).transpose(),
+                          fine.t.samplePoints[std::size_t(fine.t.sampleOffsets[std::size_t(v)])],
+                          options.newtonSteps, 1e-10 * unit, terms);
+          }
+          // Where the spline is undefined around the start (a cone's hole), the tessellation there.
+          if (!std::isfinite(out.distance)) {
+            out.distance = hit.distance;
+            out.position = hit.closest;
+            out.parameter = fine.locate(corners[0]).parameter;
+            out.converged = true;
+          }
+        }
+      });
+  std::vector<double> distances(projections.size());
+  for (std::size_t k = 0; k < projections.size(); ++k) {
+    distances[k] = projections[k].distance;
+    d.unconvergedProjections += projections[k].converged ? 0 : 1;
+  }
+  d.scanToSurface = spread(distances, unit, [&](std::size_t k) {
+    return SurfaceLocation{projections[k].position, projections[k].parameter};
+  });
+  if (options.details) {
+    quality.details.scanDistances =
+        Eigen::Map<Eigen::VectorXd>(distances.data(), Eigen::Index(distances.size()));
+    for (const Projection& p : projections) quality.details.scanClosest.push_back(p.parameter);
+  }
+
+  // Surface to scan: the fine tessellation's vertices on kept faces.
+  std::vector<char> used(soup.positions.size(), 0);
+  for (std::size_t f = 0; f < soup.faces.size(); ++f)
+    if (fine.kept[f])
+      for (const auto v : soup.faces[f]) used[std::size_t(v)] = 1;
+  std::vector<std::int64_t> samples;
+  std::vector<Vector3d> samplePoints;
+  for (std::size_t v = 0; v < used.size(); ++v)
+    if (used[v]) {
+      samples.push_back(std::int64_t(v));
+      samplePoints.push_back(positionOf(soup, std::int64_t(v)));
+    }
+  distances.clear();
+  for (const auto& hit : scanDistance.queryAll(samplePoints)) distances.push_back(hit.distance);
+  d.surfaceToScan = spread(distances, unit, [&](std::size_t k) { return fine.locate(samples[k]); });
+  if (options.details) {
+    quality.details.surfaceDistances =
+        Eigen::Map<Eigen::VectorXd>(distances.data(), Eigen::Index(distances.size()));
+    for (const std::int64_t v : samples)
+      quality.details.surfaceSamples.push_back(fine.locate(v).parameter);
+  }
+
+  // Folds against the scan: the coarse tessellation's kept triangles, at their centroids.
+  const std::vector<Vector3d> scanNormals = scanVertexNormals(scan);
+  std::vector<std::size_t> faces;
+  std::vector<Vector3d> centroids;
+  for (std::size_t f = 0; f < coarse.t.mesh.faces.size(); ++f)
+    if (coarse.kept[f] && !coarse.faces.normals[f].isZero()) {
+      faces.push_back(f);
+      centroids.push_back(coarse.centroid(f));
+    }
+  const std::vector<structure::ClosestPoint> onScan = scanDistance.queryAll(centroids);
+  SurfaceFolds& folds = quality.folds;
+  folds.triangles = int(faces.size());
+  for (std::size_t k = 0; k < faces.size(); ++k) {
+    const auto& corners = scanFaces[std::size_t(onScan[k].face)];
+    Vector3d normal = Vector3d::Zero();
+    for (int c = 0; c < 3; ++c)
+      normal += onScan[k].barycentric[c] * scanNormals[std::size_t(corners[std::size_t(c)])];
+    if (normal.norm() == 0.0) continue;
+    const double angle = degrees(coarse.faces.normals[faces[k]].dot(normal.normalized()));
+    if (angle <= 90.0) continue;
+    ++folds.againstScan;
+    const SurfaceLocation at{centroids[k],
+                             coarse.locate(coarse.t.mesh.faces[faces[k]][0]).parameter};
+    if (angle > folds.worstAgainstScanDegrees) {
+      folds.worstAgainstScanDegrees = angle;
+      folds.worstAgainstScan = at;
+    }
+    if (options.details) quality.details.folds.push_back(at.parameter);
+  }
+  folds.fraction = faces.empty() ? 0.0 : double(folds.againstScan) / double(faces.size());
+}
+
+// |S_s x S_t| at the coarse tessellation's kept vertices, but the means and cone points.
+void measureRegularity(const FitSpace& space, const Eigen::MatrixXd& control,
+                       const MeasuredTessellation& coarse, SurfaceRegularity& regularity) {
+  const PolygonSoup& soup = coarse.t.mesh;
+  std::vector<char> measured(soup.positions.size(), 0);
+  for (std::size_t f = 0; f < soup.faces.size(); ++f)
+    if (coarse.kept[f])
+      for (const auto v : soup.faces[f]) measured[std::size_t(v)] = 1;
+  for (const std::int64_t v : coarse.t.meanVertices) measured[std::size_t(v)] = 0;
+  for (const std::int64_t v : coarse.t.coneVertices) measured[std::size_t(v)] = 0;
+  std::vector<double> jacobian(soup.positions.size(), std::numeric_limits<double>::quiet_NaN());
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, measured.size(), 1024), [&](const auto& range) {
+        std::vector<FitBasisTerm> terms;
+        Jet jet;
+        for (std::size_t v = range.begin(); v < range.end(); ++v)
+          if (measured[v] &&
+              evaluate(space, control, coarse.locate(std::int64_t(v)).parameter, terms, jet))
+            jacobian[v] = jet.ds.cross(jet.dt).norm();
+      });
+  std::vector<double> values;
+  std::size_t smallest = 0;
+  for (std::size_t v = 0; v < jacobian.size(); ++v) {
+    if (!std::isfinite(jacobian[v])) continue;
+    if (values.empty() || jacobian[v] < jacobian[smallest]) smallest = v;
+    values.push_back(jacobian[v]);
+  }
+  regularity.samples = int(values.size());
+  if (values.empty()) return;
+  regularity.medianJacobian = percentile(values, 0.5);
+  regularity.minRelativeJacobian =
+      regularity.medianJacobian > 0.0 ? jacobian[smallest] / regularity.medianJacobian : 0.0;
+  regularity.minAt = coarse.locate(std::int64_t(smallest));
+}
+
+}  // namespace
+
+SurfaceQuality measureQuality(const SplineModel& model, const ModelSurface& surface,
+                              const Eigen::MatrixXd& control, const structure::TriMesh* scan,
+                              const QualityOptions& options, const structure::Progress& progress) {
+  structure::Stopwatch clock;
+  if (options.resolution < 1)
+    throw structure::InputError(options.name + ": the quality resolution must be at least 1");
+  if (control.rows() != surface.numControlPoints() || control.cols() != 3 || !control.allFinite())
+    throw structure::InputError(
+        options.name + ": the control points do not fit the surface (" +
+        std::to_string(control.rows()) + " x " + std::to_string(control.cols()) + " for " +
+        std::to_string(surface.numControlPoints()) + " functions, or not finite)");
+  if (scan) {
+    const auto [scanPoints, scanFaces] = scanTriangles(*scan);
+    if (model.surfaceVertices.rows() < scanPoints.rows() ||
+        !model.surfaceVertices.topRows(scanPoints.rows()).isApprox(scanPoints, 1e-12))
+      throw structure::InputError(options.scanName + ": not the scan " + options.name +
+                                  " was fitted to (the model's surface does not start with its " +
+                                  std::to_string(scanPoints.rows()) + " vertices)");
+  }
+  // The fills are classified on the spline with these control points.
+  const bool anyFilled = std::any_of(model.surfaceFaceFilled.begin(), model.surfaceFaceFilled.end(),
+                                     [](char filled) { return filled != 0; });
+  SplineModel withControl;
+  if (anyFilled) {
+    withControl = model;
+    withControl.controlPoints = control;
+  }
+  const SplineModel& fills = anyFilled ? withControl : model;
+
+  SurfaceQuality quality;
+  quality.withScan = scan != nullptr;
+  structure::report(progress, "quality: tessellating", 0.0);
+  const MeasuredTessellation coarse =
+      measuredTessellation(fills, surface, control, options.resolution);
+  const MeasuredTessellation fine =
+      measuredTessellation(fills, surface, control, 2 * options.resolution);
+
+  SurfaceSmoothness& smooth = quality.smoothness;
+  smooth.coarse = dihedrals(coarse, options.resolution);
+  smooth.fine = dihedrals(fine, 2 * options.resolution);
+  smooth.p99Ratio = smooth.fine.p99 > 0.0 ? smooth.coarse.p99 / smooth.fine.p99 : 0.0;
+  smooth.creaseDegrees = options.creaseDegrees;
+  double sharpest = 0.0;
+  for (const auto& pair : coarse.faces.pairs) {
+    const double angle = pairDegrees(coarse.faces, pair);
+    smooth.creases += angle > options.creaseDegrees ? 1 : 0;
+    if (angle <= 90.0) continue;
+    ++quality.folds.adjacentPairs;
+    const SurfaceLocation at = pairLocation(coarse, pair);
+    if (angle > sharpest) {
+      sharpest = angle;
+      quality.folds.worstPair = at;
+    }
+    if (options.details) quality.details.folds.push_back(at.parameter);
+  }
+
+  structure::report(progress, "quality: regularity", 0.3);
+  measureRegularity(surface.fitSpace(), control, coarse, quality.regularity);
+  if (scan) {
+    structure::report(progress, "quality: distances to the scan", 0.5);
+    measureAgainstScan(surface.fitSpace(), control, *scan, coarse, fine, options, quality);
+  }
+  quality.seconds = clock.lap();
+  structure::report(progress, "quality measured", 1.0);
+  return quality;
 }
 
 SurfaceQuality measureQuality(const SplineModel& model, const structure::TriMesh* scan,
                               const QualityOptions& options, const structure::Progress& progress) {
   const ModelSurface surface(model, options.name);
   return measureQuality(model, surface, model.controlPoints, scan, options, progress);
+}
+
+std::vector<char> creasedFaces(const structure::PolygonSoup& tessellation, double creaseDegrees) {
+  const AdjacentFaces faces =
+      adjacentFaces(tessellation, std::vector<char>(tessellation.faces.size(), 1));
+  std::vector<char> creased(tessellation.faces.size(), 0);
+  for (const FacePair& pair : faces.pairs)
+    if (pairDegrees(faces, pair) > creaseDegrees)
+      creased[std::size_t(pair.a)] = creased[std::size_t(pair.b)] = 1;
+  return creased;
 }
 
 }  // namespace mspline::spline

@@ -35,8 +35,9 @@ struct QualityOptions {
   /// Keep the per-sample figures (SurfaceQuality::details) for callers that act on them, such as
   /// a refinement loop.
   bool details = false;
-  /// Names the model in messages.
+  /// Name the model and the scan in messages.
   std::string name = "model";
+  std::string scanName = "scan";
 };
 
 /// A point of the surface: where it is in space and on the model's parameter domain.
@@ -44,7 +45,8 @@ struct SurfaceLocation {
   /// Position in space (NaN when there is none: nothing measured).
   Eigen::Vector3d position = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
   /// Face of the model's parameter domain (T-mesh face, or domain face of a triangular B-spline
-  /// in FitSpace terms) and position in that face's frame; face -1 when there is none.
+  /// in FitSpace terms) and position in that face's frame; face -1 when there is none. For a
+  /// triangle or an edge of a tessellation, the parameter of its first vertex.
   FacePoint parameter;
 };
 
@@ -115,9 +117,10 @@ struct SurfaceSmoothness {
   /// coarse.p99 / fine.p99: about 2 where the surface is C1 (the angles halve with the spacing),
   /// about 1 at a crease or fold (they do not); 0 when fine.p99 is 0 (a flat surface).
   double p99Ratio = 0.0;
-  /// Adjacent pairs of the coarser tessellation whose dihedral angle exceeds
-  /// QualityOptions::creaseDegrees.
+  /// Adjacent pairs of the coarser tessellation whose dihedral angle exceeds creaseDegrees
+  /// (QualityOptions::creaseDegrees).
   int creases = 0;
+  double creaseDegrees = 0.0;
 };
 
 /// How regular the parametrization is: J = |S_s x S_t|, the area element of the surface over the
@@ -170,8 +173,9 @@ struct SurfaceQuality {
 /// control points), optionally against `scan` (null: no distances, no folds against the scan).
 /// `model` supplies the fills to leave out (surfaceFaceFilled with its surface mesh and vertex
 /// parameters); its own controlPoints are not used. The scan must be the one the model was fitted
-/// to: the model's surface starts with the scan's vertices. Throws InputError (naming
-/// options.name) when it does not, or when the control points do not fit the space.
+/// to: the model's surface starts with the scan's vertices. Throws InputError naming
+/// options.scanName when it does not, naming options.name when the control points do not fit the
+/// space.
 SurfaceQuality measureQuality(const SplineModel& model, const ModelSurface& surface,
                               const Eigen::MatrixXd& control, const structure::TriMesh* scan,
                               const QualityOptions& options = {},
@@ -181,5 +185,10 @@ SurfaceQuality measureQuality(const SplineModel& model, const ModelSurface& surf
 SurfaceQuality measureQuality(const SplineModel& model, const structure::TriMesh* scan,
                               const QualityOptions& options = {},
                               const structure::Progress& progress = {});
+
+/// Per triangle of `tessellation`, 1 when a neighbour across an edge has a normal that differs
+/// from its own by more than `creaseDegrees`: the creases, and the folds between neighbours (above
+/// 90 degrees), that export marks in its pictures.
+std::vector<char> creasedFaces(const structure::PolygonSoup& tessellation, double creaseDegrees);
 
 }  // namespace mspline::spline

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <string>
 #include <utility>
 
@@ -104,21 +105,33 @@ ClosestPoint closestPointOnTriangle(const Vector3d& p, const Vector3d& a, const 
   return best;
 }
 
-struct TriangleMeshDistance::Tree {
+// Triangles (all of them, or those whose reach lies in (reach / 2, reach]; the last level's in
+// [0, reach]), their centroids (times centroidScale_) and a k-d tree on them.
+struct TriangleMeshDistance::Level {
+  std::vector<int> faces;
+  Eigen::MatrixX3d centroids;
+  double reach = 0.0;
   CentroidCloud cloud;
-  CentroidTree index;
-  explicit Tree(const Eigen::MatrixX3d& centroids)
-      : cloud{&centroids}, index(3, cloud, nanoflann::KDTreeSingleIndexAdaptorParams(10)) {
-    index.buildIndex();
-  }
+  std::unique_ptr<CentroidTree> tree;
 };
+
+namespace {
+
+// Levels of reach at most: the last one holds every triangle whose reach is below 2^-15 of the
+// largest (a search in it reaches that much further than needed, about the size of its own
+// triangles' neighbours).
+constexpr int kReachLevels = 16;
+
+}  // namespace
 
 TriangleMeshDistance::TriangleMeshDistance(Eigen::MatrixX3d positions,
                                            std::vector<std::array<int, 3>> triangles)
     : positions_(std::move(positions)), triangles_(std::move(triangles)) {
   if (triangles_.empty()) throw InputError("closest points: the mesh has no triangles");
   if (!positions_.allFinite()) throw InputError("closest points: a position is not finite");
-  centroids_.resize(Eigen::Index(triangles_.size()), 3);
+  Eigen::MatrixX3d centroids(Eigen::Index(triangles_.size()), 3);
+  std::vector<double> reach(triangles_.size(), 0.0);
+  double largest = 0.0;
   for (std::size_t f = 0; f < triangles_.size(); ++f) {
     Vector3d centroid = Vector3d::Zero();
     for (int v : triangles_[f]) {
@@ -127,15 +140,42 @@ TriangleMeshDistance::TriangleMeshDistance(Eigen::MatrixX3d positions,
                          std::to_string(v) + " of " + std::to_string(positions_.rows()));
       centroid += positions_.row(v).transpose() / 3.0;
     }
-    centroids_.row(Eigen::Index(f)) = centroid.transpose();
+    centroids.row(Eigen::Index(f)) = centroid.transpose();
     for (int v : triangles_[f]) {
       const Vector3d offset = positions_.row(v).transpose() - centroid;
-      reach_ = std::max(reach_, exactScaledNorm(offset.x(), offset.y(), offset.z()));
+      reach[f] = std::max(reach[f], exactScaledNorm(offset.x(), offset.y(), offset.z()));
     }
+    largest = std::max(largest, reach[f]);
   }
-  centroidScale_ = exactUnitScale(centroids_.cwiseAbs().maxCoeff());
-  centroids_ *= centroidScale_;
-  tree_ = std::make_unique<Tree>(centroids_);
+  centroidScale_ = exactUnitScale(centroids.cwiseAbs().maxCoeff());
+  // A few long triangles must not widen every search: triangles are grouped by their reach
+  // (halving from level to level), each group searched with its own.
+  std::vector<std::vector<int>> members(kReachLevels);
+  for (std::size_t f = 0; f < triangles_.size(); ++f) {
+    int level = kReachLevels - 1;
+    for (double bound = largest; level > 0 && reach[f] <= 0.5 * bound;) bound *= 0.5, --level;
+    members[std::size_t(kReachLevels - 1 - level)].push_back(int(f));
+  }
+  const auto makeLevel = [&](std::vector<int> faces) {
+    auto level = std::make_unique<Level>();
+    level->faces = std::move(faces);
+    level->centroids.resize(Eigen::Index(level->faces.size()), 3);
+    for (std::size_t i = 0; i < level->faces.size(); ++i) {
+      const int f = level->faces[i];
+      level->centroids.row(Eigen::Index(i)) = centroids.row(f) * centroidScale_;
+      level->reach = std::max(level->reach, reach[std::size_t(f)]);
+    }
+    level->cloud.points = &level->centroids;
+    level->tree = std::make_unique<CentroidTree>(3, level->cloud,
+                                                 nanoflann::KDTreeSingleIndexAdaptorParams(10));
+    level->tree->buildIndex();
+    return level;
+  };
+  for (auto& faces : members)
+    if (!faces.empty()) levels_.push_back(makeLevel(std::move(faces)));
+  std::vector<int> all(triangles_.size());
+  for (std::size_t f = 0; f < all.size(); ++f) all[f] = int(f);
+  all_ = makeLevel(std::move(all));
 }
 
 TriangleMeshDistance::~TriangleMeshDistance() = default;
@@ -152,21 +192,27 @@ ClosestPoint TriangleMeshDistance::query(const Vector3d& p) const {
     return c;
   };
   const Vector3d scaled = p * centroidScale_;
+  // An upper bound: the nearest centroid's triangle.
   std::uint32_t nearest = 0;
   double nearestDistance2 = 0.0;
-  tree_->index.knnSearch(scaled.data(), 1, &nearest, &nearestDistance2);
+  all_->tree->knnSearch(scaled.data(), 1, &nearest, &nearestDistance2);
   ClosestPoint best = exact(int(nearest));
-  // Rounding in the tree's squared distances must not drop a candidate at the radius.
-  const double radius = ((best.distance + reach_) * (1.0 + 1e-12) + 1e-300) * centroidScale_;
   std::vector<std::pair<std::uint32_t, double>> candidates;
-  tree_->index.radiusSearch(scaled.data(), radius * radius, candidates,
-                            nanoflann::SearchParams(0, 0.0f, false));
-  for (const auto& candidate : candidates) {
-    if (int(candidate.first) == best.face) continue;
-    // Centroid distance minus reach bounds the triangle's distance from below.
-    if (std::sqrt(candidate.second) / centroidScale_ - reach_ > best.distance) continue;
-    const ClosestPoint c = exact(int(candidate.first));
-    if (c.distance < best.distance) best = c;
+  for (const auto& level : levels_) {
+    // Rounding in the tree's squared distances must not drop a candidate at the radius.
+    const double radius =
+        ((best.distance + level->reach) * (1.0 + 1e-12) + 1e-300) * centroidScale_;
+    candidates.clear();
+    level->tree->radiusSearch(scaled.data(), radius * radius, candidates,
+                              nanoflann::SearchParams(0, 0.0f, false));
+    for (const auto& candidate : candidates) {
+      const int f = level->faces[candidate.first];
+      if (f == best.face) continue;
+      // Centroid distance minus reach bounds the triangle's distance from below.
+      if (std::sqrt(candidate.second) / centroidScale_ - level->reach > best.distance) continue;
+      const ClosestPoint c = exact(f);
+      if (c.distance < best.distance) best = c;
+    }
   }
   return best;
 }

@@ -1,10 +1,12 @@
 #pragma once
 // Exact closest points on a triangle mesh (a soup is enough: no connectivity is used).
 //
-// A k-d tree (nanoflann) holds the triangles' centroids. A query takes the nearest centroid's
-// triangle: its exact distance d bounds the answer from above. Every triangle within d of the
-// point has its centroid within d + R of it (R: the largest centroid-to-corner distance over all
-// triangles), so one radius search with d + R finds all candidates, each checked exactly by the
+// K-d trees (nanoflann) hold the triangles' centroids, one tree per level of reach (a triangle's
+// largest centroid-to-corner distance; levels halve, so that a few long triangles do not widen
+// the search among the many small ones), and one tree holds them all. A query takes the nearest
+// centroid's triangle: its exact distance d bounds the answer from above. Every triangle
+// within d of the point has its centroid within d + R of it (R: the largest reach of its level),
+// so one radius search per level with d + R finds all candidates, each checked exactly by the
 // closest point on a triangle (Ericson, Real-Time Collision Detection, 5.1.5). The result equals
 // brute force to rounding, whatever the triangles' sizes; only the speed depends on them.
 #include <array>
@@ -50,15 +52,14 @@ class TriangleMeshDistance {
   const std::vector<std::array<int, 3>>& triangles() const { return triangles_; }
 
  private:
-  struct Tree;
+  struct Level;
   Eigen::MatrixX3d positions_;
   std::vector<std::array<int, 3>> triangles_;
-  // The centroids times centroidScale_, a power of two (exact) that keeps the tree's squared
-  // distances finite and normal at any unit.
-  Eigen::MatrixX3d centroids_;
+  // The trees hold the centroids times centroidScale_, a power of two (exact) that keeps their
+  // squared distances finite and normal at any unit.
   double centroidScale_ = 1.0;
-  double reach_ = 0.0;  // largest centroid-to-corner distance
-  std::unique_ptr<Tree> tree_;
+  std::vector<std::unique_ptr<Level>> levels_;
+  std::unique_ptr<Level> all_;
 };
 
 }  // namespace mspline::structure

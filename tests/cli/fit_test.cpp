@@ -31,9 +31,20 @@ void checkReport(const nlohmann::json& fit, const std::string& kind, int budget)
   CHECK(fit["rms_error"].get<double>() <= fit["max_error"].get<double>());
   CHECK(fit["rms_error_surface_to_scan"].get<double>() <=
         fit["max_error_surface_to_scan"].get<double>());
-  const bool reached = fit["rms_error"].get<double>() <= fit["tolerance"].get<double>() &&
-                       fit["max_error"].get<double>() <= fit["max_error_wanted"].get<double>();
-  CHECK(fit["reached_tolerance"].get<bool>() == reached);
+  // The quality object holds the same distances; reached needs them both ways, and no folds.
+  const auto& quality = fit["quality"];
+  const auto& distances = quality["distances"];
+  CHECK(distances["scan_to_surface"]["rms"] == fit["rms_error"]);
+  CHECK(distances["surface_to_scan"]["max"] == fit["max_error_surface_to_scan"]);
+  const double tolerance = fit["tolerance"].get<double>(), wanted = fit["max_error_wanted"];
+  if (fit["reached_tolerance"].get<bool>()) {
+    for (const char* way : {"scan_to_surface", "surface_to_scan"}) {
+      CHECK(distances[way]["rms"].get<double>() <= tolerance);
+      CHECK(distances[way]["max"].get<double>() <= wanted);
+    }
+    CHECK(quality["folds"]["total"] == 0);
+  }
+  CHECK(quality["smoothness"]["fine"]["resolution"] == 6);
   CHECK(fit["rounds"].get<int>() >= 1);
   CHECK(fit["seconds"].get<double>() > 0.0);
   for (const char* stage : {"load", "atlas", "fit", "measure", "write"})

@@ -1,5 +1,6 @@
 #include "mspline/io/shaded_picture.h"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 
@@ -57,5 +58,30 @@ TEST_CASE("shaded_picture: bad input is refused", "[io]") {
   CHECK_THROWS_AS(io::renderShaded(positions, {{0, 1, 3}}, Eigen::MatrixX3d()),
                   structure::InputError);
   CHECK_THROWS_AS(io::renderShaded(positions, {{0, 1, 2}}, Eigen::MatrixX3d(2, 3)),
+                  structure::InputError);
+}
+
+TEST_CASE("shaded_picture: marked triangles are drawn in the mark color", "[io]") {
+  Eigen::MatrixX3d positions;
+  std::vector<std::array<int, 3>> triangles;
+  sphere(positions, triangles);
+  io::ShadedPictureOptions options;
+  options.width = options.height = 200;
+  options.color = {0, 0, 255};
+  options.markColor = {255, 0, 0};
+  // The upper half of the sphere (z > 0: the first 8 rings) marked.
+  options.marked.assign(triangles.size(), 0);
+  std::fill(options.marked.begin(), options.marked.begin() + std::ptrdiff_t(triangles.size() / 2),
+            1);
+  const io::RasterImage image = io::renderShaded(positions, triangles, positions, options);
+  int red = 0, blue = 0;
+  for (const io::Rgb& p : image.pixels) {
+    red += p.r > 0 && p.b == 0;
+    blue += p.b > 0 && p.r == 0;
+  }
+  CHECK(red > 1000);
+  CHECK(blue > 1000);
+  options.marked.pop_back();
+  CHECK_THROWS_AS(io::renderShaded(positions, triangles, positions, options),
                   structure::InputError);
 }

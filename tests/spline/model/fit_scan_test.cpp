@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "mspline/spline/model/fit_scan.h"
-#include "mspline/spline/model/scan_errors.h"
+#include "mspline/spline/quality/surface_quality.h"
 #include "mspline/structure/core/errors.h"
 #include "support/test_data.h"
 
@@ -19,19 +19,21 @@ void checkFit(const spline::FitResult& fit, const structure::TriMesh& scan,
   REQUIRE(model.controlPoints.rows() > 0);
   CHECK(model.controlPoints.cols() == 3);
   CHECK(model.controlPoints.allFinite());
-  const spline::SurfaceErrors again = spline::measureAgainstScan(model, scan);
-  CHECK(fit.errors.rms == Approx(again.rms).epsilon(1e-12));
-  CHECK(fit.errors.max == Approx(again.max).epsilon(1e-12));
-  CHECK(fit.errors.rmsSurfaceToScan == Approx(again.rmsSurfaceToScan).epsilon(1e-12));
-  CHECK(fit.errors.maxSurfaceToScan == Approx(again.maxSurfaceToScan).epsilon(1e-12));
-  CHECK(fit.errors.measured == again.measured);
-  CHECK(fit.errors.measured > 0);
-  CHECK(fit.errors.measured <= int(model.surfaceVertices.rows()));
-  CHECK(fit.errors.surfaceSamples > 0);
-  CHECK(fit.errors.p99 <= fit.errors.max);
-  CHECK(fit.errors.rmsSurfaceToScan <= fit.errors.maxSurfaceToScan);
-  const bool within = fit.errors.rms <= options.tolerance &&
-                      fit.errors.max <= options.maxErrorFactor * options.tolerance;
+  const spline::SurfaceDistances& d = fit.quality.distances;
+  const spline::SurfaceQuality again = spline::measureQuality(model, &scan);
+  CHECK(d.scanToSurface.rms == Approx(again.distances.scanToSurface.rms).epsilon(1e-12));
+  CHECK(d.scanToSurface.max == Approx(again.distances.scanToSurface.max).epsilon(1e-12));
+  CHECK(d.surfaceToScan.rms == Approx(again.distances.surfaceToScan.rms).epsilon(1e-12));
+  CHECK(d.surfaceToScan.max == Approx(again.distances.surfaceToScan.max).epsilon(1e-12));
+  CHECK(fit.quality.folds.total() == again.folds.total());
+  CHECK(d.scanToSurface.count == int(scan.n_vertices()));
+  CHECK(d.surfaceToScan.count > 0);
+  CHECK(d.scanToSurface.p99 <= d.scanToSurface.max);
+  CHECK(d.surfaceToScan.rms <= d.surfaceToScan.max);
+  const bool within = std::max(d.scanToSurface.rms, d.surfaceToScan.rms) <= options.tolerance &&
+                      std::max(d.scanToSurface.max, d.surfaceToScan.max) <=
+                          options.maxErrorFactor * options.tolerance &&
+                      fit.quality.folds.total() == 0;
   if (fit.reachedTolerance) CHECK(within);
   CHECK(fit.withinBudget == (model.controlPoints.rows() <= options.maxControl));
   CHECK(fit.warnings.size() == std::size_t(!fit.reachedTolerance) + std::size_t(!fit.withinBudget));
@@ -107,8 +109,8 @@ TEST_CASE("fit_scan: a scan with holes is fitted with fills, measured only on th
   CHECK(fit.filledHoles > 0);
   REQUIRE(fit.model.surfaceFaceFilled.size() == fit.model.surfaceFaces.size());
   // Only the scan's vertices are measured, not the fills'.
-  CHECK(fit.errors.measured <= int(test::realMesh("head.off").n_vertices()));
-  CHECK(fit.errors.measured < int(fit.model.surfaceVertices.rows()));
+  CHECK(fit.quality.distances.scanToSurface.count == int(test::realMesh("head.off").n_vertices()));
+  CHECK(fit.quality.distances.scanToSurface.count < int(fit.model.surfaceVertices.rows()));
 }
 
 TEST_CASE("fit_scan: an unreachable tolerance is reported, not thrown", "[spline]") {
@@ -117,15 +119,15 @@ TEST_CASE("fit_scan: an unreachable tolerance is reported, not thrown", "[spline
   CHECK_FALSE(fit.reachedTolerance);
   CHECK(fit.rounds.size() == 2);
   CHECK(fit.correctionRounds == 0);
-  CHECK(fit.errors.rms > options.tolerance);
+  CHECK(fit.quality.distances.scanToSurface.rms > options.tolerance);
 }
 
 TEST_CASE("fit_scan: a model is measured only against the scan it was fitted to", "[spline]") {
   const structure::TriMesh knot = test::realMesh("knot1.off");
   const spline::FitOptions options = fitOptions(spline::FitKind::TriBSpline, 300, 1e-3, 0, 0);
   const spline::FitResult fit = spline::fitScan(knot, options);
-  CHECK_THROWS_AS(spline::measureAgainstScan(fit.model, test::realMesh("eight.off")),
-                  structure::InputError);
+  const structure::TriMesh eight = test::realMesh("eight.off");
+  CHECK_THROWS_AS(spline::measureQuality(fit.model, &eight), structure::InputError);
   CHECK_THROWS_AS(spline::parseFitKind("nurbs"), structure::InputError);
   CHECK(spline::parseFitKind("subd") == spline::FitKind::Subd);
 }
@@ -156,11 +158,12 @@ TEST_CASE("fit_scan: the same fit at any unit", "[spline]") {
       CHECK(fit.rounds.size() == unit.rounds.size());
       // Relative errors equal up to the rounding of the scaled coordinates; control points in
       // the caller's unit.
-      CHECK(fit.errors.rms == Approx(unit.errors.rms).epsilon(1e-7));
-      CHECK(fit.errors.max == Approx(unit.errors.max).epsilon(1e-7));
-      CHECK(fit.errors.rmsSurfaceToScan == Approx(unit.errors.rmsSurfaceToScan).epsilon(1e-7));
+      const spline::SurfaceDistances &d = fit.quality.distances, &u = unit.quality.distances;
+      CHECK(d.scanToSurface.rms == Approx(u.scanToSurface.rms).epsilon(1e-7));
+      CHECK(d.scanToSurface.max == Approx(u.scanToSurface.max).epsilon(1e-7));
+      CHECK(d.surfaceToScan.rms == Approx(u.surfaceToScan.rms).epsilon(1e-7));
       CHECK((fit.model.controlPoints / factor - unit.model.controlPoints).cwiseAbs().maxCoeff() <=
-            1e-6 * fit.errors.diagonal / factor);
+            1e-6 * d.diagonal / factor);
     }
   }
 }
