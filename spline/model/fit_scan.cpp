@@ -6,6 +6,8 @@
 #include <optional>
 
 #include "mspline/spline/fitting/surface_fit.h"
+#include "mspline/spline/model/model_surface.h"
+#include "mspline/spline/quality/surface_quality.h"
 #include "mspline/spline/subd/subd_fit_space.h"
 #include "mspline/spline/tribspline/tri_bspline.h"
 #include "mspline/spline/tribspline/tri_bspline_fit_space.h"
@@ -14,6 +16,8 @@
 #include "mspline/structure/core/stopwatch.h"
 #include "mspline/structure/mesh/bounding_box.h"
 #include "mspline/structure/mesh/cap_holes.h"
+#include "mspline/structure/mesh/closest_point.h"
+#include "mspline/structure/mesh/polygon_soup.h"
 #include "mspline/structure/topology/topology.h"
 
 namespace mspline::spline {
@@ -62,6 +66,52 @@ Eigen::VectorXd refinementDensity(const TriMesh& surface, const std::vector<int>
     density[v.idx()] = sum / count;
   }
   return density;
+}
+
+// The T-spline of `fit` on `mesh` measured against the scan as a user sees it
+// (surface_quality.h): per T-mesh face the surface point farthest from the scan beyond half the
+// maximum wanted, with its closest scan point, and the folds. `model` carries the scan's surface
+// and fills.
+TSplineSurfaceCheck checkAgainstScan(SplineModel model, const TMesh& mesh,
+                                     const SurfaceFitResult& fit, const TriMesh& scan,
+                                     const TriangleMeshDistance& scanDistance,
+                                     const FitOptions& options) {
+  model.tmesh = mesh;
+  model.controlPoints = fit.controlPoints;
+  model.weights = Eigen::VectorXd::Ones(fit.controlPoints.rows());
+  for (std::size_t v = 0; v < model.surfaceVertexTMeshPoints.size(); ++v)
+    model.surfaceVertexTMeshPoints[v] = fit.parameters[v];
+  const ModelSurface surface(model, options.flatten.name);
+  QualityOptions measure;
+  measure.name = options.flatten.name;
+  measure.scanName = options.flatten.name;
+  measure.details = true;
+  const SurfaceQuality quality = measureQuality(model, surface, fit.controlPoints, &scan, measure);
+  const SurfaceDistances& d = quality.distances;
+  TSplineSurfaceCheck check;
+  check.folds = quality.details.folds;
+  check.accepted = std::max(d.scanToSurface.rms, d.surfaceToScan.rms) <= options.tolerance &&
+                   std::max(d.scanToSurface.max, d.surfaceToScan.max) <=
+                       options.maxErrorFactor * options.tolerance &&
+                   quality.folds.total() == 0;
+  const double stray = 0.5 * options.maxErrorFactor * options.tolerance * d.diagonal;
+  std::vector<int> worst(std::size_t(mesh.numFaces()), -1);
+  const auto& samples = quality.details.surfaceSamples;
+  const Eigen::VectorXd& distances = quality.details.surfaceDistances;
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    int& w = worst[std::size_t(samples[k].face)];
+    if (distances[Eigen::Index(k)] > stray && (w < 0 || distances[Eigen::Index(k)] > distances[w]))
+      w = int(k);
+  }
+  for (const int k : worst)
+    if (k >= 0) check.strays.push_back(samples[std::size_t(k)]);
+  check.strayTargets.resize(Eigen::Index(check.strays.size()), 3);
+  for (std::size_t k = 0; k < check.strays.size(); ++k)
+    check.strayTargets.row(Eigen::Index(k)) =
+        scanDistance
+            .query(evaluateFitSurface(surface.fitSpace(), fit.controlPoints, check.strays[k]))
+            .closest.transpose();
+  return check;
 }
 
 // The space built within the control point budget.
@@ -187,6 +237,12 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
     adaptiveOptions.maxControlPoints = options.maxControl;
     adaptiveOptions.maxRefinements = options.maxRefinements;
     adaptiveOptions.fit = fitOptions;
+    const PolygonSoup scanSoup = toSoup(scan, name);
+    const TriangleMeshDistance scanDistance(pointMatrix(scanSoup.positions),
+                                            triangleIndices(scanSoup));
+    adaptiveOptions.measure = [&](const TMesh& refined, const SurfaceFitResult& roundFit) {
+      return checkAgainstScan(setup.model, refined, roundFit, scan, scanDistance, options);
+    };
     TSplineAdaptiveFitResult adaptive = fitTSplineAdaptively(
         setup.model.tmesh, setup.tmeshSites, setup.targets, adaptiveOptions, progress);
     setup.model.tmesh = std::move(adaptive.mesh);

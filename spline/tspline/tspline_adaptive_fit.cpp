@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include "mspline/spline/tspline/tspline.h"
@@ -74,6 +75,7 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
   SurfaceFitOptions fitOptions = options.fit;
   fitOptions.faceFairing = Eigen::VectorXd::Ones(mesh.numFaces());
   const Eigen::VectorXd unitWeights;
+  int previousFolds = std::numeric_limits<int>::max();
   for (int round = 0;; ++round) {
     const auto start = std::chrono::steady_clock::now();
     const TSplineSpace space(result.mesh);
@@ -131,7 +133,12 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
     // construction's (there a stiffer fairing of the T-spline's normalized hole made more folds:
     // 474 to 860 on bunny00).
     std::vector<char> folded(faceError.size(), 0);
-    for (const auto& p : check.folds) folded[std::size_t(p.face)] = !nearCone[std::size_t(p.face)];
+    int folds = 0;
+    for (const auto& p : check.folds)
+      if (!nearCone[std::size_t(p.face)]) {
+        folded[std::size_t(p.face)] = 1;
+        ++folds;
+      }
     for (std::size_t f = 0; f < folded.size(); ++f)
       if (folded[f]) fitOptions.faceFairing[Eigen::Index(f)] *= options.foldFairing;
     summary.stiffenedFaces = int(std::count(folded.begin(), folded.end(), 1));
@@ -170,7 +177,11 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
       }
     }
     finish();
-    if (marked.empty() && summary.addedSamples == 0 && summary.stiffenedFaces == 0) break;
+    // Another round when it has something to act on: refined faces, new samples, or folds that
+    // the last stiffening reduced.
+    const bool unfolding = summary.stiffenedFaces > 0 && folds < previousFolds;
+    previousFolds = folds;
+    if (marked.empty() && summary.addedSamples == 0 && !unfolding) break;
     for (const int f : marked) {
       const int other = result.mesh.numFaces();
       splitHalf(result.mesh, f, 0, current, fitOptions.faceFairing);
