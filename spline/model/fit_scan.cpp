@@ -71,7 +71,10 @@ Eigen::VectorXd refinementDensity(const TriMesh& surface, const std::vector<int>
 // The T-spline of `fit` on `mesh` measured against the scan as a user sees it
 // (surface_quality.h): per T-mesh face the surface point farthest from the scan beyond half the
 // maximum wanted, with its closest scan point, and the folds. `model` carries the scan's surface
-// and fills.
+// and fills. A closest scan point is only trusted as a target when it faces the same way as the
+// surface and lies along the surface's normal: not on another sheet of a thin part, not on the
+// rim of a hole beside the surface over its fill (such targets folded the surface on head, elk,
+// mushroom).
 TSplineSurfaceCheck checkAgainstScan(SplineModel model, const TMesh& mesh,
                                      const SurfaceFitResult& fit, const TriMesh& scan,
                                      const TriangleMeshDistance& scanDistance,
@@ -103,14 +106,35 @@ TSplineSurfaceCheck checkAgainstScan(SplineModel model, const TMesh& mesh,
     if (distances[Eigen::Index(k)] > stray && (w < 0 || distances[Eigen::Index(k)] > distances[w]))
       w = int(k);
   }
-  for (const int k : worst)
-    if (k >= 0) check.strays.push_back(samples[std::size_t(k)]);
-  check.strayTargets.resize(Eigen::Index(check.strays.size()), 3);
-  for (std::size_t k = 0; k < check.strays.size(); ++k)
-    check.strayTargets.row(Eigen::Index(k)) =
-        scanDistance
-            .query(evaluateFitSurface(surface.fitSpace(), fit.controlPoints, check.strays[k]))
-            .closest.transpose();
+  std::vector<Eigen::Vector3d> targets;
+  std::vector<FitBasisTerm> terms;
+  for (const int k : worst) {
+    if (k < 0) continue;
+    surface.fitSpace().basisAt(samples[std::size_t(k)], terms, 1);
+    Eigen::Vector3d point = Eigen::Vector3d::Zero(), ds = point, dt = point;
+    for (const auto& term : terms) {
+      const Eigen::Vector3d c = fit.controlPoints.row(term.index).transpose();
+      point += term.value * c;
+      ds += term.ds * c;
+      dt += term.dt * c;
+    }
+    const Eigen::Vector3d normal = ds.cross(dt).normalized();
+    const ClosestPoint closest = scanDistance.query(point);
+    const auto& corners = scanDistance.triangles()[std::size_t(closest.face)];
+    const auto corner = [&](int i) {
+      return Eigen::Vector3d(scanDistance.positions().row(corners[std::size_t(i)]).transpose());
+    };
+    const Eigen::Vector3d scanNormal =
+        (corner(1) - corner(0)).cross(corner(2) - corner(0)).normalized();
+    const Eigen::Vector3d offset = (closest.closest - point).normalized();
+    if (normal.dot(scanNormal) > 0.5 && std::abs(offset.dot(normal)) > 0.8) {
+      check.strays.push_back(samples[std::size_t(k)]);
+      targets.push_back(closest.closest);
+    }
+  }
+  check.strayTargets.resize(Eigen::Index(targets.size()), 3);
+  for (std::size_t k = 0; k < targets.size(); ++k)
+    check.strayTargets.row(Eigen::Index(k)) = targets[k].transpose();
   return check;
 }
 

@@ -142,13 +142,18 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
     for (std::size_t f = 0; f < folded.size(); ++f)
       if (folded[f]) fitOptions.faceFairing[Eigen::Index(f)] *= options.foldFairing;
     summary.stiffenedFaces = int(std::count(folded.begin(), folded.end(), 1));
-    // Beyond the maximum wanted, or (when only the RMS is off) beyond the tolerance.
+    // Beyond the maximum wanted, or (when only the RMS is off) beyond the tolerance; when only
+    // the measurement is off, only the faces of its stray points (beyond half the maximum), not
+    // every face holding a sample above the tolerance.
     const double maxError = *std::max_element(faceError.begin(), faceError.end());
+    const bool samplesWithin = result.fit.rmsError <= options.tolerance &&
+                               result.fit.maxError <= options.maxErrorFactor * options.tolerance;
     const double threshold =
         maxError > options.maxErrorFactor * options.tolerance
             ? std::max(options.tolerance,
                        std::min(0.5 * options.maxErrorFactor * options.tolerance, 0.5 * maxError))
-            : options.tolerance;
+        : samplesWithin ? 0.5 * options.maxErrorFactor * options.tolerance
+                        : options.tolerance;
     std::vector<int> order(faceError.size());
     std::iota(order.begin(), order.end(), 0);
     std::sort(order.begin(), order.end(),
