@@ -140,7 +140,9 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
         ++folds;
       }
     for (std::size_t f = 0; f < folded.size(); ++f)
-      if (folded[f]) fitOptions.faceFairing[Eigen::Index(f)] *= options.foldFairing;
+      if (folded[f])
+        fitOptions.faceFairing[Eigen::Index(f)] =
+            std::max(fitOptions.faceFairing[Eigen::Index(f)], options.foldFairing);
     summary.stiffenedFaces = int(std::count(folded.begin(), folded.end(), 1));
     // Beyond the maximum wanted, or (when only the RMS is off) beyond the tolerance; when only
     // the measurement is off, only the faces of its stray points (beyond half the maximum), not

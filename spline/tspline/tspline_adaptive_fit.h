@@ -50,7 +50,9 @@ struct TSplineAdaptiveFitOptions {
   /// Faces with a vertex within this many rings of faces around an extraordinary vertex are left
   /// as they are (see above).
   int coneRings = 2;
-  /// The fairing factor of a face where the surface folded is multiplied by this each round.
+  /// The fairing factor of a face where the surface folded (once: compounded round after round,
+  /// as a measurement may report folds the fairing cannot remove, it flattened the surface away
+  /// from the samples on 3torus).
   double foldFairing = 10.0;
   /// Optional: measures the surface after every fit (see above).
   TSplineSurfaceMeasure measure;
