@@ -141,8 +141,8 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
       }
     for (std::size_t f = 0; f < folded.size(); ++f)
       if (folded[f])
-        fitOptions.faceFairing[Eigen::Index(f)] =
-            std::max(fitOptions.faceFairing[Eigen::Index(f)], options.foldFairing);
+        fitOptions.faceFairing[Eigen::Index(f)] = std::min(
+            fitOptions.faceFairing[Eigen::Index(f)] * options.foldFairing, options.maxFoldFairing);
     summary.stiffenedFaces = int(std::count(folded.begin(), folded.end(), 1));
     // Beyond the maximum wanted, or (when only the RMS is off) beyond the tolerance; when only
     // the measurement is off, only the faces of its stray points (beyond half the maximum), not

@@ -50,10 +50,11 @@ struct TSplineAdaptiveFitOptions {
   /// Faces with a vertex within this many rings of faces around an extraordinary vertex are left
   /// as they are (see above).
   int coneRings = 2;
-  /// The fairing factor of a face where the surface folded (once: compounded round after round,
-  /// as a measurement may report folds the fairing cannot remove, it flattened the surface away
-  /// from the samples on 3torus).
+  /// The fairing factor of a face where the surface folded is multiplied by this each round, up
+  /// to maxFoldFairing (without a bound, folds the fairing cannot remove flattened the surface
+  /// away from its samples on 3torus: a sample 18% of the diagonal off).
   double foldFairing = 10.0;
+  double maxFoldFairing = 1000.0;
   /// Optional: measures the surface after every fit (see above).
   TSplineSurfaceMeasure measure;
   SurfaceFitOptions fit;
