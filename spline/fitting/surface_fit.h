@@ -7,9 +7,11 @@
 //
 // The solve: (D^T W D + lambda K + epsilon I) C = D^T W P, D the samples' basis values (one row
 // per sample), W their weights, K the thin-plate energy integral of |S_ss|^2 + 2 |S_st|^2 +
-// |S_tt|^2 over the parameter domain (quadrature), lambda = smoothing * trace(D^T D) / trace(K),
-// and a light pull (epsilon = 1e-7 of the mean diagonal of D^T D) towards the quasi-interpolant G
-// on the right side (epsilon G) for functions that neither samples nor the energy determine.
+// |S_tt|^2 over the parameter domain (quadrature), lambda = smoothing * trace(D^T D) / (n median
+// K_ii) (n functions; the median, not the trace of K, which a few functions with blowing-up second
+// derivatives would dominate), and a light pull (epsilon = 1e-7 of the mean diagonal of D^T D)
+// towards the quasi-interpolant G on the right side (epsilon G) for functions that neither samples
+// nor the energy determine.
 #include <functional>
 #include <string>
 #include <vector>
@@ -24,7 +26,7 @@ namespace mspline::spline {
 struct SurfaceFitOptions {
   /// Weight of the fairing term relative to the data term (see above). Negative: chosen
   /// automatically, the candidate 10^-1 .. 10^-7 whose fit on 7/8 of the samples is closest to
-  /// the other 1/8 (hold-out validation), again after every parameter correction.
+  /// the other 1/8 (hold-out validation), on the first solve (parameter correction keeps it).
   double smoothing = -1.0;
   /// Rounds of parameter correction (project the samples, refit).
   int correctionRounds = 3;
@@ -33,6 +35,9 @@ struct SurfaceFitOptions {
   /// Per sample, the weight of its squared distance (empty: all 1); e.g. small weights for
   /// points of fill patches that only keep the surface near them where there is no scan.
   Eigen::VectorXd sampleWeights;
+  /// Per face of the space's domain, a factor on the fairing energy there (empty: all 1); e.g.
+  /// larger where the surface folded between the samples.
+  Eigen::VectorXd faceFairing;
 };
 
 struct SurfaceFitResult {
@@ -88,7 +93,9 @@ SurfaceProjection projectOntoSurface(const FitSpace& space, const Eigen::MatrixX
                                      const FacePoint& start, const Eigen::Vector3d& target,
                                      int steps = 12);
 
-/// The thin-plate energy matrix K of the space (see above), numBasis x numBasis.
-Eigen::SparseMatrix<double> thinPlateEnergy(const FitSpace& space);
+/// The thin-plate energy matrix K of the space (see above), numBasis x numBasis; with
+/// `faceFactors` (one per face of the domain, else empty) each face's share times its factor.
+Eigen::SparseMatrix<double> thinPlateEnergy(const FitSpace& space,
+                                            const Eigen::VectorXd& faceFactors = {});
 
 }  // namespace mspline::spline

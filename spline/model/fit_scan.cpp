@@ -6,6 +6,8 @@
 #include <optional>
 
 #include "mspline/spline/fitting/surface_fit.h"
+#include "mspline/spline/model/model_surface.h"
+#include "mspline/spline/quality/surface_quality.h"
 #include "mspline/spline/subd/subd_fit_space.h"
 #include "mspline/spline/tribspline/tri_bspline.h"
 #include "mspline/spline/tribspline/tri_bspline_fit_space.h"
@@ -14,6 +16,8 @@
 #include "mspline/structure/core/stopwatch.h"
 #include "mspline/structure/mesh/bounding_box.h"
 #include "mspline/structure/mesh/cap_holes.h"
+#include "mspline/structure/mesh/closest_point.h"
+#include "mspline/structure/mesh/polygon_soup.h"
 #include "mspline/structure/topology/topology.h"
 
 namespace mspline::spline {
@@ -62,6 +66,80 @@ Eigen::VectorXd refinementDensity(const TriMesh& surface, const std::vector<int>
     density[v.idx()] = sum / count;
   }
   return density;
+}
+
+// The T-spline of `fit` on `mesh` measured against the scan as a user sees it
+// (surface_quality.h): per T-mesh face the surface point farthest from the scan beyond half the
+// maximum wanted, with its closest scan point, and the folds. `model` carries the scan's surface
+// and fills. A closest scan point is only trusted as a target when it faces the same way as the
+// surface and lies along the surface's normal: not on another sheet of a thin part, not on the
+// rim of a hole beside the surface over its fill (such targets folded the surface on head, elk,
+// mushroom).
+TSplineSurfaceCheck checkAgainstScan(SplineModel model, const TMesh& mesh,
+                                     const SurfaceFitResult& fit, const TriMesh& scan,
+                                     const TriangleMeshDistance& scanDistance,
+                                     const FitOptions& options) {
+  model.tmesh = mesh;
+  model.controlPoints = fit.controlPoints;
+  model.weights = Eigen::VectorXd::Ones(fit.controlPoints.rows());
+  for (std::size_t v = 0; v < model.surfaceVertexTMeshPoints.size(); ++v)
+    model.surfaceVertexTMeshPoints[v] = fit.parameters[v];
+  const ModelSurface surface(model, options.flatten.name);
+  QualityOptions measure;
+  measure.name = options.flatten.name;
+  measure.scanName = options.flatten.name;
+  measure.details = true;
+  const SurfaceQuality quality = measureQuality(model, surface, fit.controlPoints, &scan, measure);
+  const SurfaceDistances& d = quality.distances;
+  TSplineSurfaceCheck check;
+  // Only the folds between adjacent triangles (details.folds lists them first): they are the
+  // surface's own, while a triangle against the scan's normal can be the scan's doing (3torus's
+  // subd fit has 8,648) and stiffening there pulled the surface 7% of the diagonal off.
+  check.folds.assign(quality.details.folds.begin(),
+                     quality.details.folds.begin() + quality.folds.adjacentPairs);
+  check.accepted = std::max(d.scanToSurface.rms, d.surfaceToScan.rms) <= options.tolerance &&
+                   std::max(d.scanToSurface.max, d.surfaceToScan.max) <=
+                       options.maxErrorFactor * options.tolerance &&
+                   quality.folds.total() == 0;
+  const double stray = 0.5 * options.maxErrorFactor * options.tolerance * d.diagonal;
+  std::vector<int> worst(std::size_t(mesh.numFaces()), -1);
+  const auto& samples = quality.details.surfaceSamples;
+  const Eigen::VectorXd& distances = quality.details.surfaceDistances;
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    int& w = worst[std::size_t(samples[k].face)];
+    if (distances[Eigen::Index(k)] > stray && (w < 0 || distances[Eigen::Index(k)] > distances[w]))
+      w = int(k);
+  }
+  std::vector<Eigen::Vector3d> targets;
+  std::vector<FitBasisTerm> terms;
+  for (const int k : worst) {
+    if (k < 0) continue;
+    surface.fitSpace().basisAt(samples[std::size_t(k)], terms, 1);
+    Eigen::Vector3d point = Eigen::Vector3d::Zero(), ds = point, dt = point;
+    for (const auto& term : terms) {
+      const Eigen::Vector3d c = fit.controlPoints.row(term.index).transpose();
+      point += term.value * c;
+      ds += term.ds * c;
+      dt += term.dt * c;
+    }
+    const Eigen::Vector3d normal = ds.cross(dt).normalized();
+    const ClosestPoint closest = scanDistance.query(point);
+    const auto& corners = scanDistance.triangles()[std::size_t(closest.face)];
+    const auto corner = [&](int i) {
+      return Eigen::Vector3d(scanDistance.positions().row(corners[std::size_t(i)]).transpose());
+    };
+    const Eigen::Vector3d scanNormal =
+        (corner(1) - corner(0)).cross(corner(2) - corner(0)).normalized();
+    const Eigen::Vector3d offset = (closest.closest - point).normalized();
+    if (normal.dot(scanNormal) > 0.5 && std::abs(offset.dot(normal)) > 0.8) {
+      check.strays.push_back(samples[std::size_t(k)]);
+      targets.push_back(closest.closest);
+    }
+  }
+  check.strayTargets.resize(Eigen::Index(targets.size()), 3);
+  for (std::size_t k = 0; k < targets.size(); ++k)
+    check.strayTargets.row(Eigen::Index(k)) = targets[k].transpose();
+  return check;
 }
 
 // The space built within the control point budget.
@@ -187,6 +265,12 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
     adaptiveOptions.maxControlPoints = options.maxControl;
     adaptiveOptions.maxRefinements = options.maxRefinements;
     adaptiveOptions.fit = fitOptions;
+    const PolygonSoup scanSoup = toSoup(scan, name);
+    const TriangleMeshDistance scanDistance(pointMatrix(scanSoup.positions),
+                                            triangleIndices(scanSoup));
+    adaptiveOptions.measure = [&](const TMesh& refined, const SurfaceFitResult& roundFit) {
+      return checkAgainstScan(setup.model, refined, roundFit, scan, scanDistance, options);
+    };
     TSplineAdaptiveFitResult adaptive = fitTSplineAdaptively(
         setup.model.tmesh, setup.tmeshSites, setup.targets, adaptiveOptions, progress);
     setup.model.tmesh = std::move(adaptive.mesh);

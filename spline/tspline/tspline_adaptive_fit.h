@@ -3,6 +3,16 @@
 // than the tolerance, split their T-mesh faces into four (local refinement: the cuts end in
 // T-junctions), fit again, until the RMS distance is within the tolerance, the maximum within
 // maxErrorFactor times it, or the control point budget is spent.
+//
+// The samples alone cannot see what the surface does between them. With a measurement of the
+// surface (TSplineAdaptiveFitOptions::measure: fit_scan.cpp measures it against the scan), the
+// loop also acts on it: points of the surface that stray from the scan become samples (their
+// closest scan points) and their faces are refined like the samples'; faces where the surface
+// folds get a stiffer fairing term instead (more freedom would not unfold them); and the
+// tolerance is reached only when the measurement accepts the surface too. Faces near an
+// extraordinary vertex are never split, stiffened or given stray samples: the surface there is
+// built from the regular grid around the vertex, which T-junctions would break.
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -11,6 +21,22 @@
 #include "mspline/spline/tspline/tmesh.h"
 
 namespace mspline::spline {
+
+/// What a measurement of a fitted surface beyond its samples found.
+struct TSplineSurfaceCheck {
+  /// Points of the surface farther from the scan than the tolerance: their parameters on the
+  /// T-mesh measured, and per row the closest scan point.
+  std::vector<FacePoint> strays;
+  Eigen::MatrixX3d strayTargets;
+  /// Parameters where the surface folds.
+  std::vector<FacePoint> folds;
+  /// The surface is within the tolerance both ways and has no folds.
+  bool accepted = true;
+};
+
+/// Measures the surface of `fit` (control points, samples' parameters) on `mesh`.
+using TSplineSurfaceMeasure =
+    std::function<TSplineSurfaceCheck(const TMesh& mesh, const SurfaceFitResult& fit)>;
 
 struct TSplineAdaptiveFitOptions {
   /// Wanted RMS distance of the samples to the surface (absolute units).
@@ -21,6 +47,16 @@ struct TSplineAdaptiveFitOptions {
   int maxControlPoints = 8000;
   /// At most this many refinement rounds.
   int maxRefinements = 6;
+  /// Faces with a vertex within this many rings of faces around an extraordinary vertex are left
+  /// as they are (see above).
+  int coneRings = 2;
+  /// The fairing factor of a face where the surface folded is multiplied by this each round, up
+  /// to maxFoldFairing (without a bound, folds the fairing cannot remove flattened the surface
+  /// away from its samples on 3torus: a sample 18% of the diagonal off).
+  double foldFairing = 10.0;
+  double maxFoldFairing = 1000.0;
+  /// Optional: measures the surface after every fit (see above).
+  TSplineSurfaceMeasure measure;
   SurfaceFitOptions fit;
 };
 
@@ -32,6 +68,10 @@ struct TSplineFitRound {
   double maxError = 0.0;
   /// Faces split after this round (0 for the last).
   int splitFaces = 0;
+  /// With a measurement: the stray surface points added as samples and the faces whose fairing
+  /// was raised for folds after this round.
+  int addedSamples = 0;
+  int stiffenedFaces = 0;
   double seconds = 0.0;
 };
 
@@ -39,10 +79,12 @@ struct TSplineAdaptiveFitResult {
   /// The final T-mesh (input faces keep their ids; split faces' parts follow) and its fit.
   TMesh mesh;
   SurfaceFitResult fit;
-  /// The samples' parameters on `mesh` (after parameter correction).
+  /// The samples' parameters on `mesh` (after parameter correction); `fit` also holds the stray
+  /// surface points' samples, after these.
   std::vector<FacePoint> parameters;
   std::vector<TSplineFitRound> rounds;
-  /// RMS <= tolerance and max <= maxErrorFactor * tolerance.
+  /// RMS <= tolerance and max <= maxErrorFactor * tolerance, and the measurement (when given)
+  /// accepted the surface.
   bool reachedTolerance = false;
 };
 

@@ -240,3 +240,92 @@ TEST_CASE("surface_fit: functions without samples take the samples' mean", "[spl
   }
   CHECK(without == fit.basisWithoutSamples);
 }
+
+TEST_CASE("surface_fit: a few functions with a huge energy do not weaken the fairing elsewhere",
+          "[spline]") {
+  // One face's share of the energy a million times larger (as next to a cone's hole, where the
+  // normalization's second derivatives blow up): lambda, relative to typical functions, stays.
+  TorusCase c = torusCase(9, 9, 4, 0.0, 9);
+  const spline::TSplineFitSpace fitSpace(c.space, c.weights);
+  spline::SurfaceFitOptions options;
+  options.smoothing = 1e-2;
+  options.correctionRounds = 0;
+  const spline::SurfaceFitResult plain =
+      spline::fitSurface(fitSpace, c.parameters, c.targets, options);
+  options.faceFairing = Eigen::VectorXd::Ones(c.space.mesh().numFaces());
+  options.faceFairing[40] = 1e6;
+  const spline::SurfaceFitResult stiff =
+      spline::fitSurface(fitSpace, c.parameters, c.targets, options);
+  CHECK(stiff.lambda == Approx(plain.lambda).epsilon(1e-12));
+  // The stiff face's energy is that of the plain one times the factor.
+  const Eigen::SparseMatrix<double> energy = spline::thinPlateEnergy(fitSpace);
+  const Eigen::SparseMatrix<double> stiffEnergy =
+      spline::thinPlateEnergy(fitSpace, options.faceFairing);
+  CHECK(stiffEnergy.diagonal().sum() > 1e4 * energy.diagonal().sum());
+  options.faceFairing.resize(3);
+  CHECK_THROWS_AS(spline::fitSurface(fitSpace, c.parameters, c.targets, options),
+                  structure::InputError);
+}
+
+TEST_CASE("surface_fit: the fairing quadrature covers every face, cones' faces included",
+          "[spline]") {
+  // A cube's T-mesh: its corners are extraordinary, the T-spline has a hole around each, and the
+  // fairing must still reach every face there (where the surface would otherwise fold freely).
+  const test::CubeTMesh cube = test::cubeTMesh(4);
+  const spline::TSplineSpace space(cube.mesh);
+  const Eigen::VectorXd weights;
+  const spline::TSplineFitSpace fitSpace(space, weights);
+  std::vector<spline::FacePoint> nodes;
+  std::vector<double> nodeWeights;
+  fitSpace.quadrature(nodes, nodeWeights);
+  std::vector<double> area(cube.mesh.faces.size(), 0.0);
+  std::vector<int> defined(cube.mesh.faces.size(), 0);
+  std::vector<spline::FitBasisTerm> terms;
+  for (std::size_t q = 0; q < nodes.size(); ++q) {
+    area[std::size_t(nodes[q].face)] += nodeWeights[q];
+    fitSpace.basisAt(nodes[q], terms, 2);
+    double energy = 0.0;
+    for (const auto& term : terms)
+      energy += term.dss * term.dss + 2.0 * term.dst * term.dst + term.dtt * term.dtt;
+    defined[std::size_t(nodes[q].face)] += !terms.empty() && energy > 0.0;
+  }
+  for (std::size_t f = 0; f < area.size(); ++f) {
+    const auto& face = cube.mesh.faces[f];
+    CHECK(area[f] == Approx(face.width * face.height).epsilon(1e-12));
+    CHECK(defined[f] == 16);
+  }
+}
+
+TEST_CASE("surface_fit: a region with few samples gets no spike", "[spline]") {
+  // A torus sampled with 6 points per cell but one in a block of 5 x 5 cells: with the automatic
+  // fairing weight the surface spans the block close to the torus instead of swinging away
+  // between the few samples there.
+  TorusCase c = torusCase(16, 10, 6, 0.0, 11);
+  std::vector<spline::FacePoint> parameters;
+  std::vector<Eigen::Index> kept;
+  const auto inBlock = [](int face) {
+    const int i = face % 16, j = face / 16;
+    return i >= 5 && i < 10 && j >= 2 && j < 7;
+  };
+  for (std::size_t k = 0; k < c.parameters.size(); ++k)
+    if (!inBlock(c.parameters[k].face) || k < 16 * 10) {
+      parameters.push_back(c.parameters[k]);
+      kept.push_back(Eigen::Index(k));
+    }
+  const Eigen::MatrixX3d targets = c.targets(kept, Eigen::all);
+  const spline::TSplineFitSpace fitSpace(c.space, c.weights);
+  const spline::SurfaceFitResult fit = spline::fitSurface(fitSpace, parameters, targets);
+  double worst = 0.0;
+  for (int j = 2; j < 7; ++j)
+    for (int i = 5; i < 10; ++i)
+      for (double x : {0.1, 0.5, 0.9})
+        for (double y : {0.1, 0.5, 0.9}) {
+          const Eigen::Vector3d point = spline::evaluateFitSurface(
+              fitSpace, fit.controlPoints, {j * 16 + i, Eigen::Vector2d(x, y)});
+          // Distance to the torus of radii 3 and 1.
+          const double ring = std::hypot(point.x(), point.y()) - 3.0;
+          worst = std::max(worst, std::abs(std::hypot(ring, point.z()) - 1.0));
+        }
+  INFO("samples' max error " << fit.maxError << ", surface over the block " << worst);
+  CHECK(worst < 0.02);
+}

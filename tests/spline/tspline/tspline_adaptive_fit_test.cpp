@@ -6,6 +6,7 @@
 
 #include "mspline/spline/tspline/tspline.h"
 #include "mspline/spline/tspline/tspline_adaptive_fit.h"
+#include "mspline/spline/tspline/tspline_fit_space.h"
 #include "mspline/structure/core/constants.h"
 #include "support/test_tmeshes.h"
 
@@ -60,4 +61,184 @@ TEST_CASE("tspline_adaptive_fit: refines where a bump is and reaches the toleran
     CHECK(p.position.x() >= -1e-12);
     CHECK(p.position.x() <= face.width + 1e-12);
   }
+}
+
+namespace {
+
+// Samples of the torus of radii 4 and 1 over a periodic n x n grid of unit cells.
+struct TorusSamples {
+  spline::TMesh mesh;
+  std::vector<spline::FacePoint> parameters;
+  Eigen::MatrixX3d targets;
+};
+
+Eigen::Vector3d torusAt(double x, double y, int n) {
+  const double a = 2.0 * kPi * x / n, b = 2.0 * kPi * y / n;
+  return {(4.0 + std::cos(b)) * std::cos(a), (4.0 + std::cos(b)) * std::sin(a), std::sin(b)};
+}
+
+TorusSamples torusSamples(int n, int perCell) {
+  TorusSamples t{spline::gridTMesh(test::unitKnots(n), test::unitKnots(n), true, true), {}, {}};
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  t.targets.resize(perCell * n * n, 3);
+  for (Eigen::Index k = 0; k < t.targets.rows(); ++k) {
+    const int face = int(k % (n * n));
+    const Eigen::Vector2d inCell(unit(random), unit(random));
+    t.parameters.push_back({face, inCell});
+    t.targets.row(k) = torusAt(face % n + inCell.x(), face / n + inCell.y(), n).transpose();
+  }
+  return t;
+}
+
+}  // namespace
+
+TEST_CASE("tspline_adaptive_fit: refines where only the surface strays from the scan", "[spline]") {
+  // The samples are all on the torus, and the first fit reaches the tolerance on them; the
+  // measurement sees more: the "scan" has a dent at the middle of face (6, 6) that no sample
+  // holds. That face is refined and the dent's point fitted.
+  const int n = 12;
+  const TorusSamples t = torusSamples(n, 12);
+  const int face = 6 * n + 6;
+  const Eigen::Vector3d dent =
+      torusAt(6.5, 6.5, n) + 0.1 * Eigen::Vector3d(torusAt(6.5, 6.5, n)).normalized();
+  spline::TSplineAdaptiveFitOptions options;
+  options.tolerance = 4e-3;
+  options.maxControlPoints = 400;
+  options.maxRefinements = 3;
+  std::vector<double> strayDistances;
+  options.measure = [&](const spline::TMesh& mesh, const spline::SurfaceFitResult& fit) {
+    const spline::TSplineSpace space(mesh);
+    const Eigen::VectorXd weights;
+    const spline::TSplineFitSpace fitSpace(space, weights);
+    // From the dent's sample once there is one, else from the middle of the unsplit face.
+    const spline::FacePoint at = fit.parameters.size() > t.parameters.size()
+                                     ? fit.parameters.back()
+                                     : spline::FacePoint{face, Eigen::Vector2d(0.5, 0.5)};
+    const double distance =
+        spline::projectOntoSurface(fitSpace, fit.controlPoints, at, dent, 30).distance;
+    strayDistances.push_back(distance);
+    spline::TSplineSurfaceCheck check;
+    check.accepted = distance <= options.maxErrorFactor * options.tolerance;
+    if (!check.accepted) {
+      check.strays.push_back(at);
+      check.strayTargets = dent.transpose();
+    }
+    return check;
+  };
+  const spline::TSplineAdaptiveFitResult result =
+      spline::fitTSplineAdaptively(t.mesh, t.parameters, t.targets, options);
+  REQUIRE(result.rounds.size() >= 2);
+  INFO("distances of the dent " << strayDistances.front() << " .. " << strayDistances.back());
+  // The samples alone were within the tolerance: only the measurement refined.
+  CHECK(result.rounds.front().rmsError <= options.tolerance);
+  CHECK(result.rounds.front().maxError <= options.maxErrorFactor * options.tolerance);
+  CHECK(result.rounds.front().splitFaces >= 1);
+  CHECK(result.rounds.front().addedSamples == 1);
+  CHECK(result.mesh.faces[std::size_t(face)].width < 1.0);
+  CHECK(strayDistances.back() < 0.5 * strayDistances.front());
+  // The result's parameters are the input samples'.
+  CHECK(result.parameters.size() == t.parameters.size());
+  CHECK(result.fit.parameters.size() > t.parameters.size());
+}
+
+TEST_CASE("tspline_adaptive_fit: a fold stiffens the fairing there instead of refining",
+          "[spline]") {
+  const int n = 12;
+  const TorusSamples t = torusSamples(n, 12);
+  const int folded = 3 * n + 4;
+  spline::TSplineAdaptiveFitOptions options;
+  options.tolerance = 4e-3;
+  options.maxRefinements = 2;
+  int calls = 0;
+  std::vector<double> lambdas;
+  options.measure = [&](const spline::TMesh&, const spline::SurfaceFitResult& fit) {
+    lambdas.push_back(fit.lambda);
+    spline::TSplineSurfaceCheck check;
+    // A fold reported by the first measurement.
+    if (calls++ == 0) {
+      check.folds.push_back({folded, Eigen::Vector2d(0.5, 0.5)});
+      check.accepted = false;
+    }
+    return check;
+  };
+  const spline::TSplineAdaptiveFitResult result =
+      spline::fitTSplineAdaptively(t.mesh, t.parameters, t.targets, options);
+  REQUIRE(result.rounds.size() == 2);
+  CHECK(result.rounds.front().stiffenedFaces == 1);
+  CHECK(result.rounds.front().splitFaces == 0);
+  CHECK(result.mesh.numFaces() == n * n);
+  CHECK(result.reachedTolerance);
+  // The same smoothing weight (chosen once), relative to the same typical functions.
+  CHECK(lambdas[1] == Approx(lambdas[0]).epsilon(1e-2));
+}
+
+TEST_CASE("tspline_adaptive_fit: faces near an extraordinary vertex are not split", "[spline]") {
+  // A cube's T-mesh (8 corners of valence 3) fitted to a sphere; the measurement reports a stray
+  // point on every face, so every face may be split and take a stray sample, except those with a
+  // vertex within two rings of faces of a corner.
+  const int k = 8;
+  const test::CubeTMesh cube = test::cubeTMesh(k);
+  const auto onSphere = [&](const spline::FacePoint& p) {
+    const auto& face = cube.mesh.faces[std::size_t(p.face)];
+    const Eigen::Vector3d a = cube.latticePoints.row(face.vertices[0]).transpose(),
+                          b = cube.latticePoints.row(face.vertices[1]).transpose(),
+                          d = cube.latticePoints.row(face.vertices[3]).transpose();
+    return Eigen::Vector3d((a + p.position.x() * (b - a) + p.position.y() * (d - a)).normalized());
+  };
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<spline::FacePoint> parameters;
+  Eigen::MatrixX3d targets(8 * cube.mesh.numFaces(), 3);
+  for (Eigen::Index s = 0; s < targets.rows(); ++s) {
+    parameters.push_back(
+        {int(s % cube.mesh.numFaces()), Eigen::Vector2d(unit(random), unit(random))});
+    targets.row(s) = onSphere(parameters.back()).transpose();
+  }
+  spline::TSplineAdaptiveFitOptions options;
+  options.tolerance = 1e-1;
+  options.maxRefinements = 1;
+  options.maxControlPoints = 100000;
+  options.fit.correctionRounds = 1;
+  const int inputFaces = cube.mesh.numFaces();
+  options.measure = [&](const spline::TMesh& mesh, const spline::SurfaceFitResult&) {
+    spline::TSplineSurfaceCheck check;
+    if (mesh.numFaces() > inputFaces) return check;
+    check.accepted = false;
+    check.strayTargets.resize(inputFaces, 3);
+    for (int f = 0; f < inputFaces; ++f) {
+      check.strays.push_back({f, Eigen::Vector2d(0.5, 0.5)});
+      check.strayTargets.row(f) = 2.0 * onSphere(check.strays.back()).transpose();
+    }
+    return check;
+  };
+  const spline::TSplineAdaptiveFitResult result =
+      spline::fitTSplineAdaptively(cube.mesh, parameters, targets, options);
+  REQUIRE(result.rounds.size() == 2);
+  // Ring distance of every vertex from the corners, by faces.
+  std::vector<int> ring(std::size_t(cube.mesh.numVertices), 1 << 20);
+  for (int v = 0; v < cube.mesh.numVertices; ++v)
+    if (cube.mesh.isExtraordinary(v)) ring[std::size_t(v)] = 0;
+  for (int step = 0; step < 4; ++step)
+    for (const auto& face : cube.mesh.faces) {
+      int nearest = 1 << 20;
+      for (const int v : face.vertices) nearest = std::min(nearest, ring[std::size_t(v)]);
+      for (const int v : face.vertices)
+        ring[std::size_t(v)] = std::min(ring[std::size_t(v)], nearest + 1);
+    }
+  int split = 0, kept = 0;
+  for (int f = 0; f < inputFaces; ++f) {
+    const auto& vertices = cube.mesh.faces[std::size_t(f)].vertices;
+    const bool near = std::any_of(vertices.begin(), vertices.end(),
+                                  [&](int v) { return ring[std::size_t(v)] <= 2; });
+    const bool wasSplit = result.mesh.faces[std::size_t(f)].width < 1.0;
+    CHECK(wasSplit == !near);
+    split += wasSplit;
+    kept += !wasSplit;
+  }
+  INFO("split " << split << " kept " << kept);
+  CHECK(split > 0);
+  CHECK(kept > 0);
+  // Stray points near the corners are not samples either.
+  CHECK(result.rounds.front().addedSamples == split);
 }
