@@ -92,6 +92,8 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
       if (faceError[std::size_t(f)] <= threshold || int(marked.size()) >= budget) break;
       marked.push_back(f);
     }
+    // Cap regions at cones are split whole or not at all (no T-junction may enter them).
+    marked = withWholeCapRegions(result.mesh, marked);
     summary.splitFaces = int(marked.size());
     finish();
     if (marked.empty()) break;

@@ -8,6 +8,7 @@
 
 #include <Eigen/QR>
 
+#include "mspline/spline/tspline/tspline_cap.h"
 #include "mspline/structure/core/errors.h"
 
 namespace mspline::spline {
@@ -235,6 +236,11 @@ class Reexpression {
         if (column[piece.anchor] >= 0) affected[f] = 1;
       for (const TSplinePiece& piece : input_.pieces(refined_.origin[f].face))
         if (changed[piece.anchor]) affected[f] = 1;
+      // A cap face is one polynomial over the whole face: no knot lines, sampled whole.
+      if (const TSplineCapFace* cap = space_.capFace(f))
+        for (int a : cap->anchors) affected[f] |= column[a] >= 0;
+      if (const TSplineCapFace* cap = input_.capFace(refined_.origin[f].face))
+        for (int a : cap->anchors) affected[f] |= changed[a];
     }
 
     // Gauss-Legendre nodes: 4 x 4 distinct points determine a bicubic on an element.
@@ -360,6 +366,37 @@ class Reexpression {
 };
 
 }  // namespace
+
+std::vector<int> withWholeCapRegions(const TMesh& mesh, std::vector<int> faces) {
+  const std::vector<TSplineCapRegion> regions = capRegions(mesh);
+  std::vector<char> split(mesh.faces.size(), 0);
+  for (int f : faces) split[std::size_t(f)] = 1;
+  std::vector<char> whole(regions.size(), 0);
+  for (bool grown = true; grown;) {
+    grown = false;
+    for (std::size_t r = 0; r < regions.size(); ++r) {
+      if (whole[r]) continue;
+      bool touched = false;
+      for (const auto& cells : regions[r].cells)
+        for (const DevelopedFace& cell : cells) {
+          const TMeshFace& face = mesh.faces[std::size_t(cell.face)];
+          touched = touched || split[std::size_t(cell.face)];
+          for (int twin : face.twinFace)
+            touched = touched || (twin >= 0 && split[std::size_t(twin)]);
+        }
+      if (!touched) continue;
+      whole[r] = 1;
+      grown = true;
+      for (const auto& cells : regions[r].cells)
+        for (const DevelopedFace& cell : cells)
+          if (!split[std::size_t(cell.face)]) {
+            split[std::size_t(cell.face)] = 1;
+            faces.push_back(cell.face);
+          }
+    }
+  }
+  return faces;
+}
 
 TMesh splitFace(const TMesh& mesh, int face, int axis, double coordinate) {
   return splitFaceDetailed(mesh, face, axis, coordinate).mesh;

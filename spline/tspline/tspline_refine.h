@@ -31,6 +31,13 @@ namespace mspline::spline {
 /// 1, or a coordinate not strictly inside the face.
 TMesh splitFace(const TMesh& mesh, int face, int axis, double coordinate);
 
+/// The faces to split into four (each cut through its middle both ways) so that no T-junction
+/// enters the cap region of an extraordinary vertex (tspline_cap.h): `faces`, then every face of
+/// each cone's region (its 4 x 4 cells per sector) that holds one of them or shares a side with
+/// one, until no further region is touched. A region split whole keeps a cap at half the cell
+/// size. Throws SolverError when `mesh` has a cone without a cap already.
+std::vector<int> withWholeCapRegions(const TMesh& mesh, std::vector<int> faces);
+
 /// One cut, as taken by splitFace.
 struct FaceSplit {
   int face = -1;
