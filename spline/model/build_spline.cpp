@@ -10,6 +10,7 @@
 #include "mspline/spline/tspline/torus_tmesh.h"
 #include "mspline/spline/tspline/tspline.h"
 #include "mspline/spline/tspline/tspline_fit_space.h"
+#include "mspline/spline/tspline/tspline_refine.h"
 #include "mspline/structure/core/stopwatch.h"
 #include "mspline/structure/layout/coarse_triangulation.h"
 #include "mspline/structure/layout/motorcycle_layout.h"
@@ -144,6 +145,9 @@ void buildTSpline(const BuildSplineOptions& s, const Flattening& flattening,
       model, model.tmesh.numFaces(), s.samplesPerControlPoint, setup.sampleFaces, targets,
       [&](int f, const Eigen::Vector3d& b) { setup.tmeshSites.push_back(locate(f, b)); });
   setup.targets = toMatrix(targets);
+  // Cones closer together than caps need (tspline_cap.h): the cells around them are split.
+  refineAroundCones(model.tmesh, setup.tmeshSites);
+  std::copy_n(setup.tmeshSites.begin(), vertexCount, model.surfaceVertexTMeshPoints.begin());
   addStageSeconds(setup.stageSeconds, "locate", clock.lap());
 }
 

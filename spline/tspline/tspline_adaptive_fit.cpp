@@ -11,23 +11,6 @@
 
 namespace mspline::spline {
 
-namespace {
-
-// Splits `face` of `mesh` along `axis` at its middle; samples on the far part follow it.
-void splitHalf(TMesh& mesh, int face, int axis, std::vector<FacePoint>& parameters) {
-  const TMeshFace& f = mesh.faces[std::size_t(face)];
-  const double middle = 0.5 * (axis == 0 ? f.width : f.height);
-  const int far = mesh.numFaces();
-  mesh = splitFace(mesh, face, axis, middle);
-  for (auto& p : parameters)
-    if (p.face == face && p.position[axis] >= middle) {
-      p.face = far;
-      p.position[axis] -= middle;
-    }
-}
-
-}  // namespace
-
 TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
                                               const std::vector<FacePoint>& parameters,
                                               const Eigen::MatrixX3d& targets,
@@ -97,12 +80,7 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
     summary.splitFaces = int(marked.size());
     finish();
     if (marked.empty()) break;
-    for (const int f : marked) {
-      const int other = result.mesh.numFaces();
-      splitHalf(result.mesh, f, 0, current);
-      splitHalf(result.mesh, f, 1, current);
-      splitHalf(result.mesh, other, 1, current);
-    }
+    for (const int f : marked) splitIntoFour(result.mesh, f, current);
   }
   result.parameters.clear();
   for (const auto& p : current) result.parameters.push_back({p.face, p.position});

@@ -398,6 +398,65 @@ std::vector<int> withWholeCapRegions(const TMesh& mesh, std::vector<int> faces) 
   return faces;
 }
 
+namespace {
+
+// Splits `face` along `axis` at its middle; points on the far part follow it.
+void splitHalf(TMesh& mesh, int face, int axis, std::vector<FacePoint>& points) {
+  const TMeshFace& f = mesh.faces[std::size_t(face)];
+  const double middle = 0.5 * (axis == 0 ? f.width : f.height);
+  const int far = mesh.numFaces();
+  mesh = splitFace(mesh, face, axis, middle);
+  for (auto& p : points)
+    if (p.face == face && p.position[axis] >= middle) {
+      p.face = far;
+      p.position[axis] -= middle;
+    }
+}
+
+}  // namespace
+
+void splitIntoFour(TMesh& mesh, int face, std::vector<FacePoint>& points) {
+  const int other = mesh.numFaces();
+  splitHalf(mesh, face, 0, points);
+  splitHalf(mesh, face, 1, points);
+  splitHalf(mesh, other, 1, points);
+}
+
+int refineAroundCones(TMesh& mesh, std::vector<FacePoint>& points, int maxRounds) {
+  int split = 0;
+  for (int round = 0; round < maxRounds; ++round) {
+    std::vector<std::vector<int>> facesAt(std::size_t(mesh.numVertices));
+    for (int f = 0; f < mesh.numFaces(); ++f)
+      for (int v : mesh.faces[std::size_t(f)].vertices) facesAt[std::size_t(v)].push_back(f);
+    // Faces within 5 cells of a cone without cap: 5 rings of faces sharing a vertex.
+    std::vector<char> marked(mesh.faces.size(), 0);
+    std::vector<int> ring;
+    for (int v = 0; v < mesh.numVertices; ++v) {
+      TSplineCapRegion region;
+      if (!mesh.isExtraordinary(v) || findCapRegion(mesh, v, region).empty()) continue;
+      ring = facesAt[std::size_t(v)];
+      for (int step = 0; step < 5; ++step) {
+        std::vector<int> next;
+        for (int f : ring) {
+          if (marked[std::size_t(f)]) continue;
+          marked[std::size_t(f)] = 1;
+          for (int u : mesh.faces[std::size_t(f)].vertices)
+            for (int g : facesAt[std::size_t(u)])
+              if (!marked[std::size_t(g)]) next.push_back(g);
+        }
+        ring = std::move(next);
+      }
+    }
+    std::vector<int> faces;
+    for (int f = 0; f < mesh.numFaces(); ++f)
+      if (marked[std::size_t(f)]) faces.push_back(f);
+    if (faces.empty()) break;
+    for (int f : faces) splitIntoFour(mesh, f, points);
+    split += int(faces.size());
+  }
+  return split;
+}
+
 TMesh splitFace(const TMesh& mesh, int face, int axis, double coordinate) {
   return splitFaceDetailed(mesh, face, axis, coordinate).mesh;
 }

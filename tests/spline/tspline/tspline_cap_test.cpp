@@ -10,8 +10,10 @@
 #include "mspline/spline/tspline/tspline.h"
 #include "mspline/spline/tspline/tspline_bezier.h"
 #include "mspline/spline/tspline/tspline_cap.h"
+#include "mspline/spline/tspline/tspline_refine.h"
 #include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
+#include "support/test_tmeshes.h"
 
 using namespace mspline;
 using spline::TSplineSpace;
@@ -265,4 +267,42 @@ TEST_CASE("tspline caps: a T-junction in a cone's cap region is refused", "[spli
   CHECK_FALSE(spline::findCapRegion(withJunction, 0, region).empty());
   CHECK_THROWS_AS(TSplineSpace(withJunction), structure::SolverError);
   CHECK_THROWS_WITH(TSplineSpace(withJunction), Catch::Contains("extraordinary vertex 0"));
+}
+
+TEST_CASE("tspline caps: refinement keeps caps, or makes them where cones are close", "[spline]") {
+  // A face in a cap region: the whole region (16 cells a sector) is split with it.
+  const StarMesh star = starMesh(3);
+  const std::vector<int> faces =
+      spline::withWholeCapRegions(star.mesh, {star.face(1, 2, 1), star.face(2, 5, 5)});
+  CHECK(faces.size() == 2 + 3 * 16 - 1);
+  spline::TMesh mesh = star.mesh;
+  std::vector<spline::FacePoint> points{{star.face(0, 0, 0), {0.75, 0.25}}};
+  for (int f : faces) spline::splitIntoFour(mesh, f, points);
+  const TSplineSpace refined(mesh);
+  REQUIRE(refined.capFaces().size() == 3);
+  CHECK(refined.capFaces()[0].face == star.face(0, 0, 0));
+  CHECK(mesh.faces[std::size_t(star.face(0, 0, 0))].width == 0.5);
+  // The point moved to the part holding it, in that part's frame.
+  CHECK(points[0].face != star.face(0, 0, 0));
+  CHECK(points[0].position.isApprox(Eigen::Vector2d(0.25, 0.25)));
+  // Splitting only a face next to the region would put a T-junction into it.
+  spline::TMesh broken = star.mesh;
+  spline::splitIntoFour(broken, star.face(0, 4, 0), points);
+  CHECK_THROWS_AS(TSplineSpace(broken), structure::SolverError);
+
+  // A cube of 2 x 2 cells a side: its corners 2 cells apart, then 4, then 8: capped.
+  const test::CubeTMesh cube = test::cubeTMesh(2);
+  spline::TMesh cubeMesh = cube.mesh;
+  std::vector<spline::FacePoint> centres;
+  for (int f = 0; f < cubeMesh.numFaces(); ++f) centres.push_back({f, {0.5, 0.5}});
+  CHECK_THROWS_AS(TSplineSpace(cubeMesh), structure::SolverError);
+  CHECK(spline::refineAroundCones(cubeMesh, centres) == 24 + 96);
+  const TSplineSpace capped(cubeMesh);
+  CHECK(capped.capFaces().size() == 8 * 3);
+  for (const auto& p : centres) {
+    const auto& face = cubeMesh.faces[std::size_t(p.face)];
+    CHECK(face.width == 0.25);
+    // Each old centre is a corner of the quarter cells now.
+    CHECK((p.position.array() == 0.0).all());
+  }
 }
