@@ -367,8 +367,12 @@ class Reexpression {
 
 }  // namespace
 
-std::vector<int> withWholeCapRegions(const TMesh& mesh, std::vector<int> faces) {
-  const std::vector<TSplineCapRegion> regions = capRegions(mesh);
+namespace {
+
+// `faces` and every face of each region that holds one of them or shares a side with one, until
+// no further region is touched.
+std::vector<int> closeOverRegions(const TMesh& mesh, const std::vector<TSplineCapRegion>& regions,
+                                  std::vector<int> faces) {
   std::vector<char> split(mesh.faces.size(), 0);
   for (int f : faces) split[std::size_t(f)] = 1;
   std::vector<char> whole(regions.size(), 0);
@@ -398,8 +402,6 @@ std::vector<int> withWholeCapRegions(const TMesh& mesh, std::vector<int> faces) 
   return faces;
 }
 
-namespace {
-
 // Splits `face` along `axis` at its middle; points on the far part follow it.
 void splitHalf(TMesh& mesh, int face, int axis, std::vector<FacePoint>& points) {
   const TMeshFace& f = mesh.faces[std::size_t(face)];
@@ -415,6 +417,10 @@ void splitHalf(TMesh& mesh, int face, int axis, std::vector<FacePoint>& points) 
 
 }  // namespace
 
+std::vector<int> withWholeCapRegions(const TMesh& mesh, std::vector<int> faces) {
+  return closeOverRegions(mesh, capRegions(mesh), std::move(faces));
+}
+
 void splitIntoFour(TMesh& mesh, int face, std::vector<FacePoint>& points) {
   const int other = mesh.numFaces();
   splitHalf(mesh, face, 0, points);
@@ -428,12 +434,18 @@ int refineAroundCones(TMesh& mesh, std::vector<FacePoint>& points, int maxRounds
     std::vector<std::vector<int>> facesAt(std::size_t(mesh.numVertices));
     for (int f = 0; f < mesh.numFaces(); ++f)
       for (int v : mesh.faces[std::size_t(f)].vertices) facesAt[std::size_t(v)].push_back(f);
-    // Faces within 5 cells of a cone without cap: 5 rings of faces sharing a vertex.
+    // Faces within 5 cells of a cone without cap (5 rings of faces sharing a vertex); the cones
+    // with caps keep them, split whole where touched.
     std::vector<char> marked(mesh.faces.size(), 0);
+    std::vector<TSplineCapRegion> regions;
     std::vector<int> ring;
     for (int v = 0; v < mesh.numVertices; ++v) {
       TSplineCapRegion region;
-      if (!mesh.isExtraordinary(v) || findCapRegion(mesh, v, region).empty()) continue;
+      if (!mesh.isExtraordinary(v)) continue;
+      if (findCapRegion(mesh, v, region).empty()) {
+        regions.push_back(std::move(region));
+        continue;
+      }
       ring = facesAt[std::size_t(v)];
       for (int step = 0; step < 5; ++step) {
         std::vector<int> next;
@@ -451,6 +463,7 @@ int refineAroundCones(TMesh& mesh, std::vector<FacePoint>& points, int maxRounds
     for (int f = 0; f < mesh.numFaces(); ++f)
       if (marked[std::size_t(f)]) faces.push_back(f);
     if (faces.empty()) break;
+    faces = closeOverRegions(mesh, regions, std::move(faces));
     for (int f : faces) splitIntoFour(mesh, f, points);
     split += int(faces.size());
   }
