@@ -145,9 +145,6 @@ void buildTSpline(const BuildSplineOptions& s, const Flattening& flattening,
       model, model.tmesh.numFaces(), s.samplesPerControlPoint, setup.sampleFaces, targets,
       [&](int f, const Eigen::Vector3d& b) { setup.tmeshSites.push_back(locate(f, b)); });
   setup.targets = toMatrix(targets);
-  // Cones closer together than caps need (tspline_cap.h): the cells around them are split.
-  refineAroundCones(model.tmesh, setup.tmeshSites);
-  std::copy_n(setup.tmeshSites.begin(), vertexCount, model.surfaceVertexTMeshPoints.begin());
   addStageSeconds(setup.stageSeconds, "locate", clock.lap());
 }
 
@@ -229,6 +226,12 @@ SplineSpaceBuild buildSpline(const Flattening& flattening, const BuildSplineOpti
   return build;
 }
 
+void splitCellsAroundCones(SplineSpaceBuild& build) {
+  refineAroundCones(build.model.tmesh, build.tmeshSites);
+  std::copy_n(build.tmeshSites.begin(), build.model.surfaceVertexTMeshPoints.size(),
+              build.model.surfaceVertexTMeshPoints.begin());
+}
+
 std::vector<FacePoint> tmeshFitParameters(const SplineSpaceBuild& build) {
   std::vector<FacePoint> parameters;
   parameters.reserve(build.tmeshSites.size());
@@ -260,6 +263,7 @@ ControlPointFit fitControlPoints(SplineSpaceBuild& build, const Progress& progre
   } else {
     report(progress,
            std::to_string(model.tmesh.numFaces()) + " cells; inferring the blending functions");
+    splitCellsAroundCones(build);
     const TSplineSpace space(model.tmesh);
     result.missingAnchors = int(space.missingAnchors().size());
     model.weights = Eigen::VectorXd::Ones(space.numBasis());

@@ -187,6 +187,7 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
     adaptiveOptions.maxControlPoints = options.maxControl;
     adaptiveOptions.maxRefinements = options.maxRefinements;
     adaptiveOptions.fit = fitOptions;
+    splitCellsAroundCones(setup);
     TSplineAdaptiveFitResult adaptive = fitTSplineAdaptively(
         setup.model.tmesh, setup.tmeshSites, setup.targets, adaptiveOptions, progress);
     setup.model.tmesh = std::move(adaptive.mesh);

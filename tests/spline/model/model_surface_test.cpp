@@ -278,9 +278,9 @@ void checkNet(const spline::SplineModel& model) {
   CHECK(net.tJunctions == tJunctions);
   CHECK(net.points.size() == std::size_t(rows));  // every function is anchored at a vertex
   if (model.kind == spline::SplineKind::TSpline) {
-    // No function at an extraordinary vertex: the T-spline has a hole there.
-    CHECK(net.extraordinary.empty());
-    CHECK(unanchoredCones == mesh.numExtraordinary());
+    // Extraordinary vertices anchor functions (caps).
+    CHECK(int(net.extraordinary.size()) == mesh.numExtraordinary());
+    CHECK(unanchoredCones == 0);
   } else {
     CHECK(int(net.extraordinary.size()) == mesh.numExtraordinary());
     // Every T-mesh edge once: V - E + F is the Euler characteristic of the closed (filled) head.
