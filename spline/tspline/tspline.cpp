@@ -216,7 +216,7 @@ TSplineSpace::TSplineSpace(TMesh mesh) : mesh_(std::move(mesh)) {
   }
 
   // Caps: the vertices anchoring uniform B-splines around a cone (its region), and the faces
-  // around it (one patch each).
+  // around it (one patch each; marked here, their entries of capFaces_ set below).
   const std::vector<TSplineCapRegion> regions = capRegions(mesh_);
   std::vector<int> capRegionOf(static_cast<std::size_t>(numVertices), -1);
   capFaceOf_.assign(mesh_.faces.size(), -1);

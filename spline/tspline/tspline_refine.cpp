@@ -434,8 +434,9 @@ int refineAroundCones(TMesh& mesh, std::vector<FacePoint>& points, int maxRounds
     std::vector<std::vector<int>> facesAt(std::size_t(mesh.numVertices));
     for (int f = 0; f < mesh.numFaces(); ++f)
       for (int v : mesh.faces[std::size_t(f)].vertices) facesAt[std::size_t(v)].push_back(f);
-    // Faces within 5 cells of a cone without cap (5 rings of faces sharing a vertex); the cones
-    // with caps keep them, split whole where touched.
+    // Faces within 3 cells of a cone without cap (3 rings of faces sharing a vertex: split, they
+    // are 6 half cells, and the T-junctions at their border lie beyond the 4 a cap needs); the
+    // cones with caps keep them, split whole where touched.
     std::vector<char> marked(mesh.faces.size(), 0);
     std::vector<TSplineCapRegion> regions;
     std::vector<int> ring;
@@ -447,7 +448,7 @@ int refineAroundCones(TMesh& mesh, std::vector<FacePoint>& points, int maxRounds
         continue;
       }
       ring = facesAt[std::size_t(v)];
-      for (int step = 0; step < 5; ++step) {
+      for (int step = 0; step < 3; ++step) {
         std::vector<int> next;
         for (int f : ring) {
           if (marked[std::size_t(f)]) continue;

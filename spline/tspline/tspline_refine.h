@@ -43,7 +43,7 @@ std::vector<int> withWholeCapRegions(const TMesh& mesh, std::vector<int> faces);
 void splitIntoFour(TMesh& mesh, int face, std::vector<FacePoint>& points);
 
 /// Refines around the extraordinary vertices that have no cap (tspline_cap.h: another cone, a
-/// boundary or a T-junction within 4 cells, cells of other sizes): the faces within 5 cells of
+/// boundary or a T-junction within 4 cells, cells of other sizes): the faces within 3 cells of
 /// each are split into four, halving the distances in cells, until every cone has a cap or
 /// `maxRounds` rounds are done (then TSplineSpace will say which cone has none). `points` follow
 /// their faces. Returns the faces split.
