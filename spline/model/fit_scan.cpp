@@ -70,6 +70,7 @@ SplineSpaceBuild buildWithinBudget(const Flattening& flattening, const FitOption
                                    const Progress& progress) {
   const auto buildOnce = [&] {
     SplineSpaceBuild built = buildSpline(flattening, build, progress);
+    if (options.kind == FitKind::TSpline) splitCellsAroundCones(built);  // counts for the budget
     for (const auto& [name, seconds] : built.stageSeconds) addStageSeconds(stages, name, seconds);
     return built;
   };
@@ -187,7 +188,6 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
     adaptiveOptions.maxControlPoints = options.maxControl;
     adaptiveOptions.maxRefinements = options.maxRefinements;
     adaptiveOptions.fit = fitOptions;
-    splitCellsAroundCones(setup);
     TSplineAdaptiveFitResult adaptive = fitTSplineAdaptively(
         setup.model.tmesh, setup.tmeshSites, setup.targets, adaptiveOptions, progress);
     setup.model.tmesh = std::move(adaptive.mesh);
