@@ -128,8 +128,8 @@ void addExportCommand(CLI::App& app, Command& command) {
       "a unit normal per vertex (OBJ vn, PLY nx ny nz; STL has facet normals) and, in OBJ, each "
       "vertex's chart coordinates (vt): every domain face sampled on a regular grid, shared "
       "sides sampled once. For a T-spline, every T-mesh edge gets R segments and every face an "
-      "R x R grid inside, stitched to faces' T-junctions; samples at extraordinary points "
-      "(holes) are the surface's limit around them.");
+      "R x R grid inside, stitched to faces' T-junctions; extraordinary points are sampled on "
+      "their cap patches.");
   sub->add_option("MODEL", arguments->model, "Model file (.msp)")->required();
   sub->add_option("-o,--output", arguments->output, "Mesh to write (.obj, .ply, .stl)")->required();
   auto* resolution = sub->add_option("--resolution", arguments->resolution,

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <string_view>
 #include <utility>
 
@@ -13,6 +14,7 @@
 #include "mspline/io/detail/byte_order.h"
 #include "mspline/io/detail/output_buffer.h"
 #include "mspline/spline/tspline/tspline.h"
+#include "mspline/spline/tspline/tspline_cap.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/core/whole_file.h"
 
@@ -25,7 +27,9 @@ using spline::SplineModel;
 using structure::InputError;
 
 constexpr std::string_view kMagic("MSPLINE\x1A", 8);
-constexpr std::uint32_t kVersion = 3;
+constexpr std::uint32_t kVersion = 4;
+// The first version whose T-splines anchor functions at cones and their one-rings (caps).
+constexpr std::uint32_t kCapsVersion = 4;
 // The model indexes with int.
 constexpr std::uint64_t kMaxCount = std::numeric_limits<std::int32_t>::max();
 
@@ -244,10 +248,55 @@ spline::TMesh checkTSpline(const SplineModel& model) {
     basis = std::size_t(spline::TSplineSpace(mesh).numBasis());
   } catch (const InputError& error) {
     fail(std::string("invalid T-mesh: ") + error.what());
+  } catch (const structure::SolverError& error) {
+    fail(error.what());
   }
   if (rows != basis)
     fail(str(rows) + " control points, but the T-mesh has " + str(basis) + " blending functions");
   return mesh;
+}
+
+// Before format version 4 no function was anchored at a cone nor at its one-ring (the surface had
+// a hole there): the rows, in vertex order, are the other anchors'. The cap anchors get the ring
+// averages of tsplineControlNet's rule (spline::fillByRingAverages), of (w c, w) alike.
+void addCapAnchors(SplineModel& model) {
+  const spline::TMesh mesh = checkTMeshModel(model, "T-spline");
+  const Eigen::Index rows = model.controlPoints.rows();
+  if (model.controlPoints.cols() != 3 || model.weights.size() != rows) return;  // checkTSpline
+  std::unique_ptr<spline::TSplineSpace> space;
+  try {
+    space = std::make_unique<spline::TSplineSpace>(mesh);
+  } catch (const structure::Error& error) {
+    fail(std::string("a T-spline written before caps (format version 3 or older) whose T-mesh "
+                     "cannot have them; fit it again: ") +
+         error.what());
+  }
+  // The cones and their one-rings: the corners of the faces around the cones.
+  std::vector<char> capAnchor(std::size_t(mesh.numVertices), 0);
+  for (const spline::TSplineCapFace& cap : space->capFaces())
+    for (int v : mesh.faces[std::size_t(cap.face)].vertices) capAnchor[std::size_t(v)] = 1;
+  Eigen::MatrixXd homogeneous = Eigen::MatrixXd::Zero(mesh.numVertices, 4);
+  std::vector<char> placed(std::size_t(mesh.numVertices), 0);
+  Eigen::Index row = 0;
+  for (const spline::TSplineAnchor& anchor : space->anchors()) {
+    if (capAnchor[std::size_t(anchor.vertex)]) continue;
+    if (row == rows) fail(str(std::size_t(rows)) + " control points, too few for the T-mesh");
+    const double w = model.weights[row];
+    homogeneous.row(anchor.vertex) << w * model.controlPoints.row(row), w;
+    placed[std::size_t(anchor.vertex)] = 1;
+    ++row;
+  }
+  if (row != rows)
+    fail(str(std::size_t(rows)) + " control points, but the T-mesh had " + str(std::size_t(row)) +
+         " blending functions before caps");
+  spline::fillByRingAverages(mesh, homogeneous, placed, "T-spline");
+  model.controlPoints.resize(space->numBasis(), 3);
+  model.weights.resize(space->numBasis());
+  for (int a = 0; a < space->numBasis(); ++a) {
+    const auto h = homogeneous.row(space->anchors()[std::size_t(a)].vertex);
+    model.weights[a] = h[3];
+    model.controlPoints.row(a) = h.head<3>() / h[3];
+  }
 }
 
 // Returns the T-mesh as spline::buildTMesh completes it.
@@ -607,6 +656,7 @@ SplineModel parseSplineModel(std::string_view data, const std::string& sourceNam
   if (in.remaining() != 0)
     in.fail("the file goes on for " + str(in.remaining()) + " bytes after the last section");
   try {
+    if (model.kind == SplineKind::TSpline && version < kCapsVersion) addCapAnchors(model);
     spline::TMesh mesh = checkModel(model);
     if (model.kind != SplineKind::TriangularBSpline) model.tmesh = std::move(mesh);
   } catch (const InputError& error) {

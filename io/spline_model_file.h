@@ -10,7 +10,7 @@
 //
 //   header (16 bytes)
 //     u8[8]  magic: "MSPLINE" then 0x1A (a control byte: a text file never starts like this)
-//     u32    format version: 3 (versions 1 and 2 are read too, see below)
+//     u32    format version: 4 (versions 1 to 3 are read too, see below)
 //     u32    kind: 1 = triangular B-spline, 2 = T-spline, 3 = subdivision surface
 //            (spline::SplineKind)
 //   common part (every kind)
@@ -55,10 +55,14 @@
 //
 // Version 1 knew only kind 1 and counted its first three sections to the common part; since they
 // come right after the surface faces, a version 1 file holds the same bytes as the version 2 file
-// of the same model but for the version number. Readers read both; the writer writes version 2.
+// of the same model but for the version number. Readers read both.
 // Kind 3 came to version 2 as the extension rule below allows: a reader that does not know it
 // rejects it by number. Version 3 added the filled surface faces to the common part; a version 1
-// or 2 file reads as a model without filled faces.
+// or 2 file reads as a model without filled faces. Version 4 has the same sections; its T-splines
+// anchor functions at cones and their one-rings (caps, spline/tspline/tspline_cap.h), where
+// older ones had none (a hole): an older T-spline's rows go to the other anchors in vertex order,
+// and the cap anchors get the ring averages of their anchored neighbours (control points and
+// weights as (w c, w)); an older T-mesh that cannot have caps is rejected, asking for a new fit.
 //
 // Extending the format: the header and the common part are the same for every kind, and the
 // kind-specific part comes last. A new kind takes the next kind number and defines its own part

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import mspline
-from conftest import FIT_ARGUMENTS
+from conftest import TSPLINE_FIT_ARGUMENTS
 from helpers import counts_alongside, diagonal
 
 
@@ -12,7 +12,7 @@ from helpers import counts_alongside, diagonal
 def fitted(eight):
     calls = []
     model = mspline.fit(*eight, progress=lambda stage, fraction: calls.append((stage, fraction)),
-                        **FIT_ARGUMENTS)
+                        **TSPLINE_FIT_ARGUMENTS)
     return model, calls
 
 
@@ -28,14 +28,15 @@ def test_python_fit_gives_the_control_points_of_mspline_fit(fitted, eight_msp):
 def test_the_fit_report_tells_how_the_fit_went(fitted):
     model, _ = fitted
     report = model.fit_report
-    assert report["control_points"] == len(model.control_points) <= FIT_ARGUMENTS["max_control"]
+    budget = TSPLINE_FIT_ARGUMENTS["max_control"]
+    assert report["control_points"] == len(model.control_points) <= budget
     assert report["within_budget"] is True
     assert isinstance(report["reached_tolerance"], bool)
     for key in ("rms_error", "max_error", "rms_error_surface_to_scan",
                 "max_error_surface_to_scan"):
         assert 0 < report[key] < 0.1
     assert report["rms_error"] <= report["max_error"]
-    assert 1 <= len(report["refinement"]) <= FIT_ARGUMENTS["max_refinements"] + 1
+    assert 1 <= len(report["refinement"]) <= TSPLINE_FIT_ARGUMENTS["max_refinements"] + 1
     assert report["refinement"][-1]["control_points"] == report["control_points"]
 
 
@@ -75,11 +76,11 @@ def test_an_error_in_progress_stops_the_fit(eight):
         raise KeyError("stop here")
 
     with pytest.raises(KeyError, match="stop here"):
-        mspline.fit(*eight, progress=progress, **FIT_ARGUMENTS)
+        mspline.fit(*eight, progress=progress, **TSPLINE_FIT_ARGUMENTS)
 
 
 def test_another_thread_keeps_running_during_a_fit(eight):
-    assert counts_alongside(lambda: mspline.fit(*eight, **FIT_ARGUMENTS)) > 10000
+    assert counts_alongside(lambda: mspline.fit(*eight, **TSPLINE_FIT_ARGUMENTS)) > 10000
 
 
 def test_fit_checks_its_arguments(eight):

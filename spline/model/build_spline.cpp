@@ -10,6 +10,7 @@
 #include "mspline/spline/tspline/torus_tmesh.h"
 #include "mspline/spline/tspline/tspline.h"
 #include "mspline/spline/tspline/tspline_fit_space.h"
+#include "mspline/spline/tspline/tspline_refine.h"
 #include "mspline/structure/core/stopwatch.h"
 #include "mspline/structure/layout/coarse_triangulation.h"
 #include "mspline/structure/layout/motorcycle_layout.h"
@@ -225,6 +226,12 @@ SplineSpaceBuild buildSpline(const Flattening& flattening, const BuildSplineOpti
   return build;
 }
 
+void splitCellsAroundCones(SplineSpaceBuild& build) {
+  refineAroundCones(build.model.tmesh, build.tmeshSites);
+  std::copy_n(build.tmeshSites.begin(), build.model.surfaceVertexTMeshPoints.size(),
+              build.model.surfaceVertexTMeshPoints.begin());
+}
+
 std::vector<FacePoint> tmeshFitParameters(const SplineSpaceBuild& build) {
   std::vector<FacePoint> parameters;
   parameters.reserve(build.tmeshSites.size());
@@ -256,6 +263,7 @@ ControlPointFit fitControlPoints(SplineSpaceBuild& build, const Progress& progre
   } else {
     report(progress,
            std::to_string(model.tmesh.numFaces()) + " cells; inferring the blending functions");
+    splitCellsAroundCones(build);
     const TSplineSpace space(model.tmesh);
     result.missingAnchors = int(space.missingAnchors().size());
     model.weights = Eigen::VectorXd::Ones(space.numBasis());

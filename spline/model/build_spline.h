@@ -107,6 +107,11 @@ SplineSpaceBuild buildSpline(const structure::Flattening& flattening,
 /// built on `build.model.tmesh`.
 std::vector<FacePoint> tmeshFitParameters(const SplineSpaceBuild& build);
 
+/// T-splines (not subdivision surfaces, which keep the net): splits the cells around cones closer
+/// together than caps need (spline/tspline/tspline_refine.h, refineAroundCones); the sites and
+/// the surface vertices' T-mesh points follow.
+void splitCellsAroundCones(SplineSpaceBuild& build);
+
 /// One fit of the control points of a built space to its samples, as `spline` makes a model from
 /// its mesh: the fitting engine (spline/fitting/surface_fit.h) with no fairing and no parameter
 /// correction (the samples keep their parameters), errors at the samples' parameters.

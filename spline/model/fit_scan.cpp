@@ -148,6 +148,7 @@ SplineSpaceBuild buildWithinBudget(const Flattening& flattening, const FitOption
                                    const Progress& progress) {
   const auto buildOnce = [&] {
     SplineSpaceBuild built = buildSpline(flattening, build, progress);
+    if (options.kind == FitKind::TSpline) splitCellsAroundCones(built);  // counts for the budget
     for (const auto& [name, seconds] : built.stageSeconds) addStageSeconds(stages, name, seconds);
     return built;
   };

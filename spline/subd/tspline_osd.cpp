@@ -11,6 +11,7 @@
 
 #include "mspline/spline/subd/catmull_clark_limit.h"
 #include "mspline/spline/tspline/tspline_bezier.h"
+#include "mspline/spline/tspline/tspline_cap.h"
 #include "mspline/structure/core/errors.h"
 
 namespace mspline::spline {
@@ -55,10 +56,11 @@ bool completeUniformFace(const TSplineSpace& space, FaceDeveloper& developer, in
     const double i = std::round(x / step);
     return std::abs(x - i * step) <= tolerance && i >= -1 && i <= 2 ? int(i) : -2;
   };
-  // The vertices at the 4 x 4 grid positions around the face, developed into its frame.
+  // The vertices at the 4 x 4 grid positions around the face, developed into its frame (an open
+  // box: an extraordinary vertex on its boundary, next to a cap, is not wound around).
   std::map<std::pair<int, int>, int> vertexAt;
   for (const DevelopedFace& d :
-       developer.develop(f, QuarterMotion{}, {-w, -h}, {2.0 * w, 2.0 * h})) {
+       developer.develop(f, QuarterMotion{}, {-w, -h}, {2.0 * w, 2.0 * h}, true)) {
     const TMeshFace& other = mesh.faces[d.face];
     for (std::size_t k = 0; k < other.vertices.size(); ++k) {
       const Eigen::Vector2d p = d.toChart.apply(other.positions[k]);
@@ -124,20 +126,7 @@ TSplineControlNet tsplineControlNet(const TSplineSpace& space, const Eigen::Matr
     throw InputError("OpenSubdiv comparison: points of unanchored vertices must be " +
                      std::to_string(n) + " x 3");
   net.points.setZero(n, 3);
-  std::vector<std::vector<int>> neighbours(static_cast<std::size_t>(n));
-  for (const TMeshFace& face : mesh.faces) {
-    for (std::size_t k = 0; k < 4; ++k) {
-      // An interior edge is met from both faces: duplicates are removed below.
-      neighbours[face.vertices[k]].push_back(face.vertices[(k + 1) % 4]);
-      neighbours[face.vertices[(k + 1) % 4]].push_back(face.vertices[k]);
-    }
-  }
-  for (auto& list : neighbours) {
-    std::sort(list.begin(), list.end());
-    list.erase(std::unique(list.begin(), list.end()), list.end());
-  }
   std::vector<char> placed(static_cast<std::size_t>(n), 0);
-  std::vector<int> pending;
   for (int v = 0; v < n; ++v) {
     const int anchor = space.anchorOfVertex()[v];
     if (anchor >= 0) {
@@ -146,33 +135,9 @@ TSplineControlNet tsplineControlNet(const TSplineSpace& space, const Eigen::Matr
     } else if (unanchoredPoints.size() != 0) {
       net.points.row(v) = unanchoredPoints.row(v);
       placed[v] = 1;
-    } else {
-      pending.push_back(v);
     }
   }
-  // Rings outwards from the placed vertices: each ring averages only earlier rings.
-  while (!pending.empty()) {
-    std::vector<std::pair<int, Eigen::RowVector3d>> ring;
-    std::vector<int> rest;
-    for (int v : pending) {
-      Eigen::RowVector3d sum = Eigen::RowVector3d::Zero();
-      int count = 0;
-      for (int u : neighbours[v])
-        if (placed[u]) sum += net.points.row(u), ++count;
-      if (count > 0)
-        ring.emplace_back(v, sum / count);
-      else
-        rest.push_back(v);
-    }
-    if (ring.empty())
-      throw InputError("OpenSubdiv comparison: T-mesh vertex " + std::to_string(rest.front()) +
-                       " has no anchored vertex in its component");
-    for (const auto& [v, point] : ring) {
-      net.points.row(v) = point;
-      placed[v] = 1;
-    }
-    pending = std::move(rest);
-  }
+  fillByRingAverages(mesh, net.points, std::move(placed), "OpenSubdiv comparison");
   return net;
 }
 

@@ -3,9 +3,10 @@
 // without T-junctions every face is a quad and every vertex a net point, so the T-mesh is a
 // Catmull-Clark control net; where the T-spline is a uniform bicubic B-spline (a complete 4 x 4
 // neighbourhood of blending functions with equal knot intervals) its surface is the limit surface
-// of that net, and the two must agree to rounding. Elsewhere (near extraordinary vertices, where
-// OpenSubdiv refines and caps with Gregory patches and the T-spline has fewer functions) they are
-// two different surfaces of one net, and the comparison measures how far apart they are.
+// of that net, and the two must agree to rounding: every face but those around extraordinary
+// vertices and T-junctions. Around an extraordinary vertex OpenSubdiv refines and caps with
+// Gregory patches and the T-spline has its cap patches (tspline_cap.h): two different surfaces of
+// one net, and the comparison measures how far apart they are.
 //
 // Parameters: OpenSubdiv is uniform, one unit of its (u, v) per face; the T-spline's knot
 // intervals in a face are the face's width and height. A point (x, y) of face f is (u, v) =
@@ -100,14 +101,12 @@ struct TSplineControlNet {
 /// when the T-mesh has T-junctions (a face with other than 4 boundary vertices).
 std::vector<std::vector<int>> catmullClarkNetFaces(const TMesh& mesh, const std::string& context);
 
-/// The net of `control` (numBasis x 3, a row per blending function): an anchored vertex takes its
-/// function's control point. A vertex without a function (an extraordinary vertex, or one whose
-/// support would hold one) takes its row of `unanchoredPoints` when that is given (numVertices x
-/// 3), else the average of its neighbours along T-mesh edges that are anchored; where no
-/// neighbour is, the average of the neighbours placed in the previous such ring, outwards from
-/// the anchored vertices. Throws InputError when the T-mesh has T-junctions (a face with other
-/// than 4 boundary vertices), for wrong sizes, or when a vertex has no anchored vertex in its
-/// component.
+/// The net of `control` (numBasis x 3, a row per blending function): an anchored vertex (every
+/// vertex, extraordinary ones included, unless TSplineSpace::missingAnchors lists it) takes its
+/// function's control point. A vertex without a function takes its row of `unanchoredPoints` when
+/// that is given (numVertices x 3), else the ring average of fillByRingAverages (tspline_cap.h).
+/// Throws InputError when the T-mesh has T-junctions (a face with other than 4 boundary vertices),
+/// for wrong sizes, or when a vertex has no anchored vertex in its component.
 TSplineControlNet tsplineControlNet(const TSplineSpace& space, const Eigen::MatrixXd& control,
                                     const Eigen::MatrixXd& unanchoredPoints = {});
 

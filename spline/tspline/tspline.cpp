@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "mspline/spline/core/cubic_bspline.h"
+#include "mspline/spline/tspline/tspline_cap.h"
 #include "mspline/structure/core/errors.h"
 
 namespace mspline::spline {
@@ -214,15 +215,26 @@ TSplineSpace::TSplineSpace(TMesh mesh) : mesh_(std::move(mesh)) {
     }
   }
 
+  // Caps: the vertices anchoring uniform B-splines around a cone (its region), and the faces
+  // around it (one patch each; marked here, their entries of capFaces_ set below).
+  const std::vector<TSplineCapRegion> regions = capRegions(mesh_);
+  std::vector<int> capRegionOf(static_cast<std::size_t>(numVertices), -1);
+  capFaceOf_.assign(mesh_.faces.size(), -1);
+  for (std::size_t r = 0; r < regions.size(); ++r) {
+    const TSplineCapRegion& region = regions[r];
+    capRegionOf[std::size_t(region.vertex)] = int(r);
+    for (int k = 0; k < region.valence; ++k) {
+      capRegionOf[std::size_t(region.vertexAt(k, 1, 0))] = int(r);
+      capRegionOf[std::size_t(region.vertexAt(k, 1, 1))] = int(r);
+      capFaceOf_[std::size_t(region.cells[std::size_t(k)][0].face)] = 0;
+    }
+  }
+
   anchorOfVertex_.assign(static_cast<std::size_t>(numVertices), -1);
   pieces_.resize(mesh_.faces.size());
   std::vector<DevelopedFace> faces, support;  // reused from anchor to anchor
   RayHits hits;
   for (int v = 0; v < numVertices; ++v) {
-    if (mesh_.isExtraordinary(v)) {
-      missing_.push_back({v, "extraordinary vertex"});
-      continue;
-    }
     if (cornerFace[v].first < 0) {
       missing_.push_back({v, "corner of no face"});
       continue;
@@ -231,6 +243,14 @@ TSplineSpace::TSplineSpace(TMesh mesh) : mesh_(std::move(mesh)) {
     anchor.vertex = v;
     anchor.chartFace = cornerFace[v].first;
     const QuarterMotion toChart{0, -cornerFace[v].second};
+    if (capRegionOf[std::size_t(v)] >= 0) {
+      // Uniform knots; the pieces follow from the region below.
+      const double d = regions[std::size_t(capRegionOf[std::size_t(v)])].cellSize;
+      anchor.sKnots = anchor.tKnots = {-2.0 * d, -d, 0.0, d, 2.0 * d};
+      anchorOfVertex_[v] = static_cast<int>(anchors_.size());
+      anchors_.push_back(anchor);
+      continue;
+    }
     // Rays +x, +y, -x, -y: the ray frame turns the chart so that the ray runs along +x.
     std::array<std::array<double, 2>, 4> rayKnots{};
     std::array<int, 4> numKnots{};
@@ -274,7 +294,7 @@ TSplineSpace::TSplineSpace(TMesh mesh) : mesh_(std::move(mesh)) {
     anchor.sKnots = {-rayKnots[2][1], -rayKnots[2][0], 0.0, rayKnots[0][0], rayKnots[0][1]};
     anchor.tKnots = {-rayKnots[3][1], -rayKnots[3][0], 0.0, rayKnots[1][0], rayKnots[1][1]};
 
-    // The support, developed: it must hold no extraordinary vertex and not overlap itself.
+    // The support, developed: it must not overlap itself.
     const Eigen::Vector2d lo(anchor.sKnots[0], anchor.tKnots[0]),
         hi(anchor.sKnots[4], anchor.tKnots[4]);
     developer.develop(anchor.chartFace, toChart, lo, hi, true, faces);
@@ -287,14 +307,7 @@ TSplineSpace::TSplineSpace(TMesh mesh) : mesh_(std::move(mesh)) {
       const Eigen::Vector2d overlap = fhi.cwiseMin(hi) - flo.cwiseMax(lo);
       if (overlap.x() <= tolerance || overlap.y() <= tolerance) continue;
       coveredArea += overlap.x() * overlap.y();
-      for (std::size_t k = 0; k < face.vertices.size() && failure.empty(); ++k) {
-        if (!mesh_.isExtraordinary(face.vertices[k])) continue;
-        const Eigen::Vector2d p = d.toChart.apply(face.positions[k]);
-        if ((p.array() > lo.array() + tolerance).all() &&
-            (p.array() < hi.array() - tolerance).all())
-          failure = "its support holds extraordinary vertex " + std::to_string(face.vertices[k]);
-      }
-      support.push_back(d);
+      if (capFaceOf_[std::size_t(d.face)] < 0) support.push_back(d);
     }
     if (failure.empty() && coveredArea > (hi - lo).prod() * (1.0 + 1e-9))
       failure = "its support overlaps itself when developed";
@@ -307,11 +320,69 @@ TSplineSpace::TSplineSpace(TMesh mesh) : mesh_(std::move(mesh)) {
       pieces_[d.face].push_back({anchorOfVertex_[v], d.toChart});
     anchors_.push_back(anchor);
   }
+
+  for (std::size_t r = 0; r < regions.size(); ++r) {
+    const TSplineCapRegion& region = regions[r];
+    const double d = region.cellSize;
+    for (int k = 0; k < region.valence; ++k) {
+      // The cap's functions on the faces off the cone: the face's 4 x 4 block of anchors never
+      // has the cone inside, so the sector frame develops it without winding.
+      for (int b = 0; b < 3; ++b)
+        for (int a = 0; a < 3; ++a) {
+          if (a == 0 && b == 0) continue;
+          const DevelopedFace& cell = region.cells[std::size_t(k)][std::size_t(4 * b + a)];
+          for (int j = b - 1; j <= b + 2; ++j)
+            for (int i = a - 1; i <= a + 2; ++i) {
+              const int u = region.vertexAt(k, i, j);
+              if (capRegionOf[std::size_t(u)] != int(r)) continue;
+              pieces_[std::size_t(cell.face)].push_back(
+                  {anchorOfVertex_[std::size_t(u)],
+                   {cell.toChart.quarterTurns,
+                    cell.toChart.translation - d * Eigen::Vector2d(i, j)}});
+            }
+        }
+      const TSplineCapPatch patch = capPatch(region, k);
+      TSplineCapFace capFace;
+      capFace.face = patch.face;
+      capFace.cone = region.vertex;
+      capFace.bezier = patch.coefficients;
+      for (const int u : patch.vertices) {
+        if (anchorOfVertex_[std::size_t(u)] < 0)
+          throw structure::SolverError("T-spline: vertex " + std::to_string(u) + " of the cap at " +
+                                       std::to_string(region.vertex) + " has no blending function");
+        capFace.anchors.push_back(anchorOfVertex_[std::size_t(u)]);
+      }
+      capFaceOf_[std::size_t(patch.face)] = int(capFaces_.size());
+      capFaces_.push_back(std::move(capFace));
+    }
+  }
 }
 
 void TSplineSpace::basisAt(int face, const Eigen::Vector2d& p, std::vector<TSplineBasisValue>& out,
                            int derivatives) const {
   out.clear();
+  if (const TSplineCapFace* cap = capFace(face)) {
+    const TMeshFace& f = mesh_.faces[std::size_t(face)];
+    double bx[4], dx[4], ddx[4], by[4], dy[4], ddy[4];
+    cubicBernstein(p.x() / f.width, bx, dx, ddx);
+    cubicBernstein(p.y() / f.height, by, dy, ddy);
+    Eigen::Matrix<double, 16, 6> bernstein;  // value, d/dx, d/dy, d2/dx2, d2/dxdy, d2/dy2
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 4; ++i)
+        bernstein.row(4 * j + i) << bx[i] * by[j], dx[i] * by[j] / f.width,
+            bx[i] * dy[j] / f.height, ddx[i] * by[j] / (f.width * f.width),
+            dx[i] * dy[j] / (f.width * f.height), bx[i] * ddy[j] / (f.height * f.height);
+    const Eigen::Matrix<double, Eigen::Dynamic, 6> values = cap->bezier.transpose() * bernstein;
+    for (std::size_t m = 0; m < cap->anchors.size(); ++m) {
+      const Eigen::Index r = Eigen::Index(m);
+      TSplineBasisValue value{cap->anchors[m], values(r, 0)};
+      if (derivatives) value.ds = values(r, 1), value.dt = values(r, 2);
+      if (derivatives > 1)
+        value.dss = values(r, 3), value.dst = values(r, 4), value.dtt = values(r, 5);
+      out.push_back(value);
+    }
+    return;
+  }
   for (const TSplinePiece& piece : pieces_.at(face)) {
     const TSplineAnchor& a = anchors_[piece.anchor];
     const Eigen::Vector2d q = piece.toChart.apply(p);
@@ -424,6 +495,7 @@ TSplinePoint TSplineSpace::evaluateMovingKnots(const Eigen::MatrixXd& control,
                                                const Eigen::Vector2d& p) const {
   checkControl(*this, control, weights, face);
   std::vector<TSplineBasisValue> basis;
+  if (capFace(face)) basisAt(face, p, basis);  // a patch: no knots to move
   for (const TSplinePiece& piece : pieces_[face]) {
     const FaceKnots2d knots = knotsInFace(anchors_[piece.anchor], piece.toChart);
     const double value =

@@ -14,10 +14,16 @@
 //
 // Where a ray leaves an open T-mesh before meeting two edges, the knot spacing it last saw is
 // repeated beyond the boundary (a uniform grid then gets the uniform B-splines, as OpenSubdiv's
-// limit surface of the same net has on its inner faces). No function is anchored at an
-// extraordinary vertex, nor where the open support of a function would contain one or overlap
-// itself when developed (around a cone no flat chart exists): those anchors are listed instead,
-// and the surface has a hole of bounded size around each extraordinary vertex.
+// limit surface of the same net has on its inner faces). No function is anchored where its open
+// support would overlap itself when developed (a T-mesh too small for it): those anchors are
+// listed instead.
+//
+// Extraordinary vertices get polynomial caps (tspline_cap.h): the vertex and its one-ring anchor
+// uniform B-splines, developed sector by sector on the faces of the cap region that do not touch
+// the vertex, and each face around the vertex is one bicubic Bezier patch whose coefficients are
+// affine combinations of control points (capFace). The surface is defined at the vertex, with a
+// unique normal there. A T-mesh whose extraordinary vertices lack the uniform grid a cap needs is
+// rejected (SolverError).
 //
 // The surface is the rational sum_i w_i c_i N_i / sum_i w_i N_i. On an analysis-suitable T-mesh
 // (in particular a grid), on faces at least one face away from an open boundary, the N_i sum to
@@ -66,6 +72,17 @@ struct FaceKnots2d {
 /// The knots of `anchor` seen from a face whose frame goes into the anchor's chart by `toChart`.
 FaceKnots2d knotsInFace(const TSplineAnchor& anchor, const QuarterMotion& toChart);
 
+/// A face around an extraordinary vertex: one bicubic Bezier patch whose coefficients (row 4 j + i
+/// for Bernstein B_i(x / width) B_j(y / height) in the face frame) are affine combinations of the
+/// blending functions' coefficients (one column per entry of `anchors`).
+struct TSplineCapFace {
+  int face = -1;
+  /// The extraordinary vertex, a corner of the face.
+  int cone = -1;
+  std::vector<int> anchors;
+  Eigen::Matrix<double, 16, Eigen::Dynamic> bezier;
+};
+
 /// A vertex without a blending function, and why.
 struct TSplineMissingAnchor {
   int vertex = -1;
@@ -95,7 +112,7 @@ struct TSplinePoint {
 class TSplineSpace {
  public:
   /// Infers every blending function. Throws InputError for an invalid mesh (buildTMesh's checks
-  /// are assumed done).
+  /// are assumed done) and SolverError for an extraordinary vertex without a cap (tspline_cap.h).
   explicit TSplineSpace(TMesh mesh);
 
   const TMesh& mesh() const { return mesh_; }
@@ -104,8 +121,15 @@ class TSplineSpace {
   /// Per T-mesh vertex its blending function, or -1.
   const std::vector<int>& anchorOfVertex() const { return anchorOfVertex_; }
   const std::vector<TSplineMissingAnchor>& missingAnchors() const { return missing_; }
-  /// The blending functions whose support overlaps face f, with the motions into their charts.
+  /// The blending functions whose support overlaps face f, with the motions into their charts;
+  /// empty on a cap face.
   const std::vector<TSplinePiece>& pieces(int face) const { return pieces_.at(face); }
+  /// The cap patch on face f, or nullptr when f is not around an extraordinary vertex.
+  const TSplineCapFace* capFace(int face) const {
+    const int at = capFaceOf_.at(std::size_t(face));
+    return at < 0 ? nullptr : &capFaces_[std::size_t(at)];
+  }
+  const std::vector<TSplineCapFace>& capFaces() const { return capFaces_; }
 
   /// Every blending function that is non-zero at point p (in face f's frame, inside its
   /// rectangle), with derivatives when `derivatives` is 1 (first) or 2 (first and second).
@@ -119,7 +143,8 @@ class TSplineSpace {
 
   /// The same point computed the other way round: the blending functions' knots are moved into the
   /// face's frame (the inverse motions) instead of the point into their charts. Equal to evaluate
-  /// up to rounding; `check` compares the two.
+  /// up to rounding; `check` compares the two. A cap face has nothing to move: there it is
+  /// evaluate's patch.
   TSplinePoint evaluateMovingKnots(const Eigen::MatrixXd& control, const Eigen::VectorXd& weights,
                                    int face, const Eigen::Vector2d& p) const;
 
@@ -129,6 +154,8 @@ class TSplineSpace {
   std::vector<int> anchorOfVertex_;
   std::vector<TSplineMissingAnchor> missing_;
   std::vector<std::vector<TSplinePiece>> pieces_;
+  std::vector<TSplineCapFace> capFaces_;
+  std::vector<int> capFaceOf_;  // per face: its entry of capFaces_, or -1
 };
 
 /// A face developed into some chart: the face and the motion from its frame into the chart.

@@ -12,54 +12,6 @@
 
 namespace mspline::spline {
 
-namespace {
-
-// Splits `face` of `mesh` along `axis` at its middle; samples on the far part follow it, and the
-// new face takes the face's fairing factor.
-void splitHalf(TMesh& mesh, int face, int axis, std::vector<FacePoint>& parameters,
-               Eigen::VectorXd& faceFairing) {
-  const TMeshFace& f = mesh.faces[std::size_t(face)];
-  const double middle = 0.5 * (axis == 0 ? f.width : f.height);
-  const int far = mesh.numFaces();
-  mesh = splitFace(mesh, face, axis, middle);
-  for (auto& p : parameters)
-    if (p.face == face && p.position[axis] >= middle) {
-      p.face = far;
-      p.position[axis] -= middle;
-    }
-  faceFairing.conservativeResize(mesh.numFaces());
-  faceFairing[far] = faceFairing[face];
-}
-
-// Per face: whether one of its vertices lies within `rings` rings of faces around an
-// extraordinary vertex (ring 1: the faces at the vertex; ring k + 1: the faces sharing a vertex
-// with ring k).
-std::vector<char> facesNearExtraordinary(const TMesh& mesh, int rings) {
-  std::vector<std::vector<int>> facesAt(std::size_t(mesh.numVertices));
-  for (int f = 0; f < mesh.numFaces(); ++f)
-    for (const int v : mesh.faces[std::size_t(f)].vertices) facesAt[std::size_t(v)].push_back(f);
-  std::vector<char> reached(std::size_t(mesh.numVertices), 0);
-  for (int v = 0; v < mesh.numVertices; ++v) reached[std::size_t(v)] = mesh.isExtraordinary(v);
-  for (int ring = 0; ring < rings; ++ring) {
-    std::vector<char> next = reached;
-    for (int f = 0; f < mesh.numFaces(); ++f) {
-      const auto& vertices = mesh.faces[std::size_t(f)].vertices;
-      if (std::none_of(vertices.begin(), vertices.end(),
-                       [&](int v) { return reached[std::size_t(v)] != 0; }))
-        continue;
-      for (const int v : vertices) next[std::size_t(v)] = 1;
-    }
-    reached = std::move(next);
-  }
-  std::vector<char> near(std::size_t(mesh.numFaces()), 0);
-  for (int f = 0; f < mesh.numFaces(); ++f)
-    for (const int v : mesh.faces[std::size_t(f)].vertices)
-      near[std::size_t(f)] |= reached[std::size_t(v)];
-  return near;
-}
-
-}  // namespace
-
 TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
                                               const std::vector<FacePoint>& parameters,
                                               const Eigen::MatrixX3d& targets,
@@ -128,17 +80,10 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
             (evaluateFitSurface(fitSpace, result.fit.controlPoints, check.strays[k]) -
              check.strayTargets.row(Eigen::Index(k)).transpose())
                 .norm());
-    const std::vector<char> nearCone = facesNearExtraordinary(result.mesh, options.coneRings);
-    // Folds: a stiffer fairing where they are, and no split there; near cones they are the cone
-    // construction's (there a stiffer fairing of the T-spline's normalized hole made more folds:
-    // 474 to 860 on bunny00).
+    // Folds: a stiffer fairing where they are, and no split there.
     std::vector<char> folded(faceError.size(), 0);
-    int folds = 0;
-    for (const auto& p : check.folds)
-      if (!nearCone[std::size_t(p.face)]) {
-        folded[std::size_t(p.face)] = 1;
-        ++folds;
-      }
+    for (const auto& p : check.folds) folded[std::size_t(p.face)] = 1;
+    const int folds = int(check.folds.size());
     for (std::size_t f = 0; f < folded.size(); ++f)
       if (folded[f])
         fitOptions.faceFairing[Eigen::Index(f)] = std::min(
@@ -164,14 +109,14 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
     std::vector<int> marked;
     for (const int f : order) {
       if (faceError[std::size_t(f)] <= threshold || int(marked.size()) >= budget) break;
-      if (!nearCone[std::size_t(f)] && !folded[std::size_t(f)]) marked.push_back(f);
+      if (!folded[std::size_t(f)]) marked.push_back(f);
     }
+    // Cap regions at cones are split whole or not at all (no T-junction may enter them).
+    marked = withWholeCapRegions(result.mesh, marked);
     summary.splitFaces = int(marked.size());
-    // The stray points join the samples (unit weight: they are points of the scan), except near
-    // cones, where the surface is the cone construction's.
-    std::vector<Eigen::Index> strays;
-    for (std::size_t k = 0; k < check.strays.size(); ++k)
-      if (!nearCone[std::size_t(check.strays[k].face)]) strays.push_back(Eigen::Index(k));
+    // The stray points join the samples (unit weight: they are points of the scan).
+    std::vector<Eigen::Index> strays(check.strays.size());
+    std::iota(strays.begin(), strays.end(), Eigen::Index(0));
     summary.addedSamples = int(strays.size());
     if (!strays.empty()) {
       const Eigen::Index old = samples.rows();
@@ -190,10 +135,12 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
     previousFolds = folds;
     if (marked.empty() && summary.addedSamples == 0 && !unfolding) break;
     for (const int f : marked) {
-      const int other = result.mesh.numFaces();
-      splitHalf(result.mesh, f, 0, current, fitOptions.faceFairing);
-      splitHalf(result.mesh, f, 1, current, fitOptions.faceFairing);
-      splitHalf(result.mesh, other, 1, current, fitOptions.faceFairing);
+      const Eigen::Index first = result.mesh.numFaces();
+      splitIntoFour(result.mesh, f, current);
+      // The new parts keep the face's fairing factor.
+      fitOptions.faceFairing.conservativeResize(result.mesh.numFaces());
+      fitOptions.faceFairing.tail(result.mesh.numFaces() - first)
+          .setConstant(fitOptions.faceFairing[f]);
     }
   }
   result.parameters.assign(current.begin(), current.begin() + std::ptrdiff_t(parameters.size()));

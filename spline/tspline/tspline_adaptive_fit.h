@@ -9,9 +9,8 @@
 // loop also acts on it: points of the surface that stray from the scan become samples (their
 // closest scan points) and their faces are refined like the samples'; faces where the surface
 // folds get a stiffer fairing term instead (more freedom would not unfold them); and the
-// tolerance is reached only when the measurement accepts the surface too. Faces near an
-// extraordinary vertex are never split, stiffened or given stray samples: the surface there is
-// built from the regular grid around the vertex, which T-junctions would break.
+// tolerance is reached only when the measurement accepts the surface too. A cone's cap region
+// (tspline_cap.h) is split whole or not at all, so that no T-junction enters it.
 #include <functional>
 #include <vector>
 
@@ -47,9 +46,6 @@ struct TSplineAdaptiveFitOptions {
   int maxControlPoints = 8000;
   /// At most this many refinement rounds.
   int maxRefinements = 6;
-  /// Faces with a vertex within this many rings of faces around an extraordinary vertex are left
-  /// as they are (see above).
-  int coneRings = 2;
   /// The fairing factor of a face where the surface folded is multiplied by this each round, up
   /// to maxFoldFairing (without a bound, folds the fairing cannot remove flattened the surface
   /// away from its samples on 3torus: a sample 18% of the diagonal off).

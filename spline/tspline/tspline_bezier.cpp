@@ -9,6 +9,7 @@
 #include <Eigen/LU>
 
 #include "mspline/spline/core/cubic_bspline.h"
+#include "mspline/spline/tspline/tspline_cap.h"
 #include "mspline/structure/core/errors.h"
 
 namespace mspline::spline {
@@ -20,20 +21,6 @@ namespace {
 // Bernstein coefficients from values at these parameters: inside the interval, so that the
 // half-open supports of the B-splines never pick the neighbouring polynomial piece.
 constexpr std::array<double, 4> kSampleParameters = {0.125, 0.375, 0.625, 0.875};
-
-void cubicBernstein(double u, double b[4], double* d = nullptr) {
-  const double v = 1.0 - u;
-  b[0] = v * v * v;
-  b[1] = 3.0 * u * v * v;
-  b[2] = 3.0 * u * u * v;
-  b[3] = u * u * u;
-  if (d) {
-    d[0] = -3.0 * v * v;
-    d[1] = 3.0 * v * v - 6.0 * u * v;
-    d[2] = 6.0 * u * v - 3.0 * u * u;
-    d[3] = 3.0 * u * u;
-  }
-}
 
 const Eigen::Matrix4d& valuesToBernstein() {
   static const Eigen::Matrix4d inverse = [] {
@@ -87,6 +74,24 @@ TSplineBezier::TSplineBezier(const TSplineSpace& space, const Eigen::MatrixXd& c
   for (int f = 0; f < mesh.numFaces(); ++f) {
     const TMeshFace& face = mesh.faces[f];
     const double tolerance = 1e-9 * std::max(face.width, face.height);
+    if (const TSplineCapFace* cap = space.capFace(f)) {
+      BezierElement element;
+      element.face = f;
+      element.hi = {face.width, face.height};
+      element.points.setZero();
+      for (std::size_t m = 0; m < cap->anchors.size(); ++m) {
+        const int anchor = cap->anchors[m];
+        const double w = weights.size() ? weights[anchor] : 1.0;
+        Eigen::RowVector4d homogeneous;
+        homogeneous << w * control.row(anchor), w;
+        element.points += cap->bezier.col(Eigen::Index(m)) * homogeneous;
+      }
+      splitsX_[f] = {0.0, face.width};
+      splitsY_[f] = {0.0, face.height};
+      elements_.push_back(element);
+      first_.push_back(static_cast<int>(elements_.size()));
+      continue;
+    }
     std::vector<std::pair<int, FaceKnots2d>> factors;
     std::vector<double> xLines, yLines;
     for (const TSplinePiece& piece : space.pieces(f)) {

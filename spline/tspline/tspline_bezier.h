@@ -3,7 +3,8 @@
 // the blending functions over it into elements on which each function is one bicubic polynomial;
 // on each element the rational surface is one rational bicubic Bezier patch with 16 homogeneous
 // control points. Evaluating a patch costs the same everywhere, whatever the T-mesh looks like,
-// and the patches are what CAD formats take.
+// and the patches are what CAD formats take. A cap face (around an extraordinary vertex) is one
+// element, its patch.
 #include <vector>
 
 #include <Eigen/Core>

@@ -8,6 +8,7 @@
 
 #include <Eigen/QR>
 
+#include "mspline/spline/tspline/tspline_cap.h"
 #include "mspline/structure/core/errors.h"
 
 namespace mspline::spline {
@@ -235,6 +236,11 @@ class Reexpression {
         if (column[piece.anchor] >= 0) affected[f] = 1;
       for (const TSplinePiece& piece : input_.pieces(refined_.origin[f].face))
         if (changed[piece.anchor]) affected[f] = 1;
+      // A cap face is one polynomial over the whole face: no knot lines, sampled whole.
+      if (const TSplineCapFace* cap = space_.capFace(f))
+        for (int a : cap->anchors) affected[f] |= column[a] >= 0;
+      if (const TSplineCapFace* cap = input_.capFace(refined_.origin[f].face))
+        for (int a : cap->anchors) affected[f] |= changed[a];
     }
 
     // Gauss-Legendre nodes: 4 x 4 distinct points determine a bicubic on an element.
@@ -360,6 +366,110 @@ class Reexpression {
 };
 
 }  // namespace
+
+namespace {
+
+// `faces` and every face of each region that holds one of them or shares a side with one, until
+// no further region is touched.
+std::vector<int> closeOverRegions(const TMesh& mesh, const std::vector<TSplineCapRegion>& regions,
+                                  std::vector<int> faces) {
+  std::vector<char> split(mesh.faces.size(), 0);
+  for (int f : faces) split[std::size_t(f)] = 1;
+  std::vector<char> whole(regions.size(), 0);
+  for (bool grown = true; grown;) {
+    grown = false;
+    for (std::size_t r = 0; r < regions.size(); ++r) {
+      if (whole[r]) continue;
+      bool touched = false;
+      for (const auto& cells : regions[r].cells)
+        for (const DevelopedFace& cell : cells) {
+          const TMeshFace& face = mesh.faces[std::size_t(cell.face)];
+          touched = touched || split[std::size_t(cell.face)];
+          for (int twin : face.twinFace)
+            touched = touched || (twin >= 0 && split[std::size_t(twin)]);
+        }
+      if (!touched) continue;
+      whole[r] = 1;
+      grown = true;
+      for (const auto& cells : regions[r].cells)
+        for (const DevelopedFace& cell : cells)
+          if (!split[std::size_t(cell.face)]) {
+            split[std::size_t(cell.face)] = 1;
+            faces.push_back(cell.face);
+          }
+    }
+  }
+  return faces;
+}
+
+// Splits `face` along `axis` at its middle; points on the far part follow it.
+void splitHalf(TMesh& mesh, int face, int axis, std::vector<FacePoint>& points) {
+  const TMeshFace& f = mesh.faces[std::size_t(face)];
+  const double middle = 0.5 * (axis == 0 ? f.width : f.height);
+  const int far = mesh.numFaces();
+  mesh = splitFace(mesh, face, axis, middle);
+  for (auto& p : points)
+    if (p.face == face && p.position[axis] >= middle) {
+      p.face = far;
+      p.position[axis] -= middle;
+    }
+}
+
+}  // namespace
+
+std::vector<int> withWholeCapRegions(const TMesh& mesh, std::vector<int> faces) {
+  return closeOverRegions(mesh, capRegions(mesh), std::move(faces));
+}
+
+void splitIntoFour(TMesh& mesh, int face, std::vector<FacePoint>& points) {
+  const int other = mesh.numFaces();
+  splitHalf(mesh, face, 0, points);
+  splitHalf(mesh, face, 1, points);
+  splitHalf(mesh, other, 1, points);
+}
+
+int refineAroundCones(TMesh& mesh, std::vector<FacePoint>& points, int maxRounds) {
+  int split = 0;
+  for (int round = 0; round < maxRounds; ++round) {
+    std::vector<std::vector<int>> facesAt(std::size_t(mesh.numVertices));
+    for (int f = 0; f < mesh.numFaces(); ++f)
+      for (int v : mesh.faces[std::size_t(f)].vertices) facesAt[std::size_t(v)].push_back(f);
+    // Faces within 3 cells of a cone without cap (3 rings of faces sharing a vertex: split, they
+    // are 6 half cells, and the T-junctions at their border lie beyond the 4 a cap needs); the
+    // cones with caps keep them, split whole where touched.
+    std::vector<char> marked(mesh.faces.size(), 0);
+    std::vector<TSplineCapRegion> regions;
+    std::vector<int> ring;
+    for (int v = 0; v < mesh.numVertices; ++v) {
+      TSplineCapRegion region;
+      if (!mesh.isExtraordinary(v)) continue;
+      if (findCapRegion(mesh, v, region).empty()) {
+        regions.push_back(std::move(region));
+        continue;
+      }
+      ring = facesAt[std::size_t(v)];
+      for (int step = 0; step < 3; ++step) {
+        std::vector<int> next;
+        for (int f : ring) {
+          if (marked[std::size_t(f)]) continue;
+          marked[std::size_t(f)] = 1;
+          for (int u : mesh.faces[std::size_t(f)].vertices)
+            for (int g : facesAt[std::size_t(u)])
+              if (!marked[std::size_t(g)]) next.push_back(g);
+        }
+        ring = std::move(next);
+      }
+    }
+    std::vector<int> faces;
+    for (int f = 0; f < mesh.numFaces(); ++f)
+      if (marked[std::size_t(f)]) faces.push_back(f);
+    if (faces.empty()) break;
+    faces = closeOverRegions(mesh, regions, std::move(faces));
+    for (int f : faces) splitIntoFour(mesh, f, points);
+    split += int(faces.size());
+  }
+  return split;
+}
 
 TMesh splitFace(const TMesh& mesh, int face, int axis, double coordinate) {
   return splitFaceDetailed(mesh, face, axis, coordinate).mesh;

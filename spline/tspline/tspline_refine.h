@@ -31,6 +31,24 @@ namespace mspline::spline {
 /// 1, or a coordinate not strictly inside the face.
 TMesh splitFace(const TMesh& mesh, int face, int axis, double coordinate);
 
+/// The faces to split into four (each cut through its middle both ways) so that no T-junction
+/// enters the cap region of an extraordinary vertex (tspline_cap.h): `faces`, then every face of
+/// each cone's region (its 4 x 4 cells per sector) that holds one of them or shares a side with
+/// one, until no further region is touched. A region split whole keeps a cap at half the cell
+/// size. Throws SolverError when `mesh` has a cone without a cap already.
+std::vector<int> withWholeCapRegions(const TMesh& mesh, std::vector<int> faces);
+
+/// Splits `face` into four through its middle (splitFace along x, then both halves along y);
+/// `points` on it follow their parts (positions in the part's frame).
+void splitIntoFour(TMesh& mesh, int face, std::vector<FacePoint>& points);
+
+/// Refines around the extraordinary vertices that have no cap (tspline_cap.h: another cone, a
+/// boundary or a T-junction within 4 cells, cells of other sizes): the faces within 3 cells of
+/// each are split into four, halving the distances in cells, until every cone has a cap or
+/// `maxRounds` rounds are done (then TSplineSpace will say which cone has none). `points` follow
+/// their faces. Returns the faces split.
+int refineAroundCones(TMesh& mesh, std::vector<FacePoint>& points, int maxRounds = 4);
+
 /// One cut, as taken by splitFace.
 struct FaceSplit {
   int face = -1;

@@ -136,9 +136,8 @@ TMeshTessellation tessellateTMeshSurface(const TMesh& mesh, const TMeshSurface& 
         if (g >= 0)
           placements.push_back({g, mesh.acrossEdge(f, int(k)).apply(placements[0].position)});
         const std::int64_t index = add(placements);
-        // Along an edge into a T-spline's cone the normalization can collapse the whole edge to
-        // one point: such samples are taken just inside the face, so that no triangle between
-        // them has zero area.
+        // Where a surface collapses a whole edge to one point, its samples are taken just inside
+        // the face, so that no triangle between them has zero area.
         const std::int64_t previous =
             i == 1 ? vertexSample[std::size_t(face.vertices[k])] : samples[k].back();
         const auto position = [&](std::int64_t v) {

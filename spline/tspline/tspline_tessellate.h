@@ -19,8 +19,9 @@
 //
 // T-spline positions are TSplineBezier's, except where the denominator sum_i w_i N_i is below 1e-6
 // (times the largest weight): there the Bezier coefficients' rounding is no longer small against
-// it, and TSplineSpace::evaluate gives the point (and tells holes, where it is exactly 0). Where
-// the surface has a hole (a T-spline's around an extraordinary vertex) a sample stands for the
+// it, and TSplineSpace::evaluate gives the point (and tells holes, where it is exactly 0). A
+// T-spline is defined at its extraordinary vertices (caps, tspline_cap.h): their samples are the
+// cone points, with the caps' normal. Where a surface has a hole a sample stands for the
 // mean, over the faces that hold it, of the surface evaluated a fraction `holeOffset` of the way
 // from the sample towards each face's centre (ten times further, up to the centre, if that is in
 // the hole too): the limit of the surface around the hole, a point it approaches to O(holeOffset).
@@ -56,8 +57,7 @@ struct TMeshTessellation {
   /// See the header comment.
   double holeOffset = 0.0;
   /// Edge samples taken 1% of the way towards their face's centre because the surface is one
-  /// point along their whole edge (an edge into a T-spline's cone: the normalization collapses
-  /// it), so that no triangle has zero area.
+  /// point along their whole edge, so that no triangle has zero area.
   int collapsedEdgeSamples = 0;
   /// Per mesh vertex: the unit normal ds x dt / |ds x dt| at vertexPoints (pointing to the side the
   /// triangles face); for hole samples, and where ds x dt vanishes, the normal of the triangles

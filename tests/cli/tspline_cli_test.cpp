@@ -146,29 +146,28 @@ TEST_CASE("tspline_cli: T-junctions are refused by compare-osd, extraordinary po
   CHECK(blockTopology.boundaryLoops == 1);
   CHECK(blockTopology.genus == 0);
 
-  // A cube: 8 valence-3 vertices where the T-spline has holes; compare-osd still compares.
+  // A cube: 8 valence-3 vertices with caps; compare-osd compares them with Gregory patches.
   const int k = 8;
   io::writeSplineModel(dir + "/cube.msp", cubeModel(k));
   const auto cube = runJson("compare-osd " + dir + "/cube.msp --samples 4000");
   WARN("cube compare-osd: " << cube.dump());
   CHECK(cube["t_junctions"] == 0);
   CHECK(cube["extraordinary_points"] == 8);
-  // Around each corner the 3 x 3 cells on each of its 3 sides are incomplete.
-  CHECK(cube["irregular_faces"] == 8 * 3 * 9);
-  CHECK(cube["regular_faces"] == 6 * k * k - 8 * 3 * 9);
-  CHECK(cube["regular_max_deviation"].get<double>() <= 1e-10);
+  // The 3 cap faces around each corner; every other face is OpenSubdiv's regular patch.
+  CHECK(cube["irregular_faces"] == 8 * 3);
+  CHECK(cube["regular_faces"] == 6 * k * k - 8 * 3);
+  CHECK(cube["regular_max_deviation"].get<double>() <= 1e-12);
   CHECK(cube["irregular_max_deviation"].get<double>() > 0.0);
   const auto text = runCommand(cliPath() + " compare-osd " + dir + "/cube.msp --samples 1000");
   CHECK(text.exitCode == 0);
-  CHECK_THAT(text.out, Catch::Contains("1000 samples on 168 regular and 216 irregular faces"));
+  CHECK_THAT(text.out, Catch::Contains("1000 samples on 360 regular and 24 irregular faces"));
   const auto cubeExport =
       runJson("export " + dir + "/cube.msp -o " + dir + "/cube.obj --resolution 2");
-  CHECK(cubeExport["hole_samples"] == 8);
-  CHECK(cubeExport["min_denominator"].get<double>() > 0.0);
-  // Near a corner only some blending functions reach the cube's edges, and where a single one
-  // does the rational surface is its control point: samples there coincide, and their
-  // triangles have zero area. The mesh is closed all the same.
-  const auto cubeTopology = exportedTopology(dir + "/cube.obj", false);
+  CHECK(cubeExport["hole_samples"] == 0);
+  CHECK(cubeExport["collapsed_edge_samples"] == 0);
+  CHECK(cubeExport["min_denominator"].get<double>() == Approx(1.0).margin(1e-12));
+  // The cone points are sampled themselves: a valid closed mesh, no degenerate triangle.
+  const auto cubeTopology = exportedTopology(dir + "/cube.obj");
   CHECK(cubeTopology.closed);
   CHECK(cubeTopology.genus == 0);
   CHECK(cubeTopology.components == 1);
@@ -186,7 +185,7 @@ TEST_CASE("tspline_cli: bad input exits 2 naming the file, writing nothing", "[c
              Catch::Contains("tri.msp") && Catch::Contains("compare-osd needs a T-spline model"));
 
   // A truncated T-spline model.
-  io::writeSplineModel(dir + "/cube.msp", cubeModel(4));
+  io::writeSplineModel(dir + "/cube.msp", cubeModel(5));
   const std::string bytes = mspline::test::fileText(dir + "/cube.msp");
   std::ofstream(dir + "/cut.msp", std::ios::binary) << bytes.substr(0, bytes.size() / 2);
   for (const std::string& name : {std::string("cut.msp"), std::string("missing.msp")}) {

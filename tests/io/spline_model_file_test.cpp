@@ -324,8 +324,8 @@ TEST_CASE("spline_model_file: corrupt files are input errors naming the file and
   expect("empty.msp", "", "the file is empty");
   expect("text.msp", "# not a model\n", "not an .msp spline model");
   expect("magic.msp", patched(good, 7, std::uint8_t('\n')), "not an .msp spline model");
-  expect("version.msp", patched(good, 8, std::uint32_t(4)),
-         "unsupported format version 4 (this mspline reads versions 1 to 3)");
+  expect("version.msp", patched(good, 8, std::uint32_t(5)),
+         "unsupported format version 5 (this mspline reads versions 1 to 4)");
   expect("version0.msp", patched(good, 8, std::uint32_t(0)), "unsupported format version 0");
   expect("kind.msp", patched(good, 12, std::uint32_t(4)), "unsupported spline kind 4");
   expect("kind0.msp", patched(good, 12, std::uint32_t(0)), "unsupported spline kind 0");
@@ -440,14 +440,15 @@ TEST_CASE("spline_model_file: unreadable and unwritable paths, models the format
 
 TEST_CASE("spline_model_file: version 1 and 2 files read as the same model", "[io]") {
   // Version 2 moved the triangular B-spline's sections out of the common part without changing
-  // a byte, version 3 added the filled-face flags after the surface faces: a version 1 or 2 file
-  // is the version 3 file without them and with another version number.
+  // a byte, version 3 added the filled-face flags after the surface faces (version 4 changed only
+  // T-splines): a version 1 or 2 file is the version 4 file without them and with another version
+  // number.
   const std::string dir = test::scratchDirectory("io_spline_model_file_v1");
   const SplineModel model = awkwardModel();
   io::writeSplineModel(dir + "/v3.msp", model);
   const std::string bytes = test::fileText(dir + "/v3.msp");
   REQUIRE(bytes.size() == Layout::size);
-  CHECK(io::detail::decode<std::uint32_t>(bytes.data() + 8, false) == 3);
+  CHECK(io::detail::decode<std::uint32_t>(bytes.data() + 8, false) == 4);
   const std::string older = bytes.substr(0, Layout::filled) + bytes.substr(Layout::filled + 4);
   writeBytes(dir + "/v2.msp", patched(older, 8, std::uint32_t(2)));
   CHECK(io::readSplineModel(dir + "/v2.msp").controlPoints == model.controlPoints);
@@ -464,7 +465,7 @@ TEST_CASE("spline_model_file: version 1 and 2 files read as the same model", "[i
   CHECK(sameBits(back.controlPoints, model.controlPoints));
   CHECK(back.tmesh.faces.empty());
   CHECK(back.weights.size() == 0);
-  // Every field: the writer puts all of them in the file, which is the version 3 one.
+  // Every field: the writer puts all of them in the file, which is the version 4 one.
   io::writeSplineModel(dir + "/again.msp", back);
   CHECK(test::fileText(dir + "/again.msp") == bytes);
 }
@@ -573,7 +574,7 @@ TEST_CASE("spline_model_file: corrupt T-spline files are input errors naming the
   expect("version1.msp", patched(good, 8, std::uint32_t(1)),
          "unsupported spline kind 2 (format version 1 knows kind 1, triangular B-spline)");
   expect("kind.msp", patched(good, 12, std::uint32_t(4)),
-         "unsupported spline kind 4 (format version 3 knows kinds 1, triangular B-spline, 2, "
+         "unsupported spline kind 4 (format version 4 knows kinds 1, triangular B-spline, 2, "
          "T-spline, and 3, subdivision surface)");
   expect("trailing.msp", good + std::string(8, '\0'), "8 bytes after the last section");
   // The T-mesh: counts that cannot be, then what spline::buildTMesh refuses.
@@ -700,7 +701,7 @@ TEST_CASE("spline_model_file: a subdivision surface's save, load and save again 
   const std::string bytes = test::fileText(dir + "/a.msp");
   // The T-spline's file without the weights section (u32 count and 30 f64).
   CHECK(bytes.size() == TLayout::size - 4 - 8 * std::size_t(kColumns * kRows));
-  CHECK(io::detail::decode<std::uint32_t>(bytes.data() + 8, false) == 3);
+  CHECK(io::detail::decode<std::uint32_t>(bytes.data() + 8, false) == 4);
   CHECK(io::detail::decode<std::uint32_t>(bytes.data() + 12, false) == 3);
 
   const SplineModel back = io::readSplineModel(dir + "/a.msp");
@@ -780,4 +781,58 @@ TEST_CASE("spline_model_file: filled faces round-trip and are checked", "[io]") 
   CHECK_THROWS_WITH(io::writeSplineModel(dir + "/b.msp", model),
                     Catch::Contains("filled-face flags for"));
   CHECK_FALSE(fs::exists(dir + "/b.msp"));
+}
+
+TEST_CASE("spline_model_file: a T-spline written before caps reads with its cones capped", "[io]") {
+  // The cube of 5 x 5 cells a side: 8 cones of valence 3. A version 3 file had rows only for the
+  // anchors off the cones and their one-rings, in vertex order.
+  const std::string dir = test::scratchDirectory("io_spline_model_file_caps");
+  const test::CubeTMesh cube = test::cubeTMesh(5);
+  SplineModel model;
+  model.kind = spline::SplineKind::TSpline;
+  model.tmesh = cube.mesh;
+  model.surfaceVertices = cube.latticePoints.topRows(3);
+  model.surfaceFaces = {{0, 1, 2}};
+  for (int v = 0; v < 3; ++v)
+    model.surfaceVertexTMeshPoints.push_back({0, Eigen::Vector2d::Zero()});
+  const spline::TSplineSpace space(cube.mesh);
+  model.controlPoints = test::anchorControl(space, cube.vertexPoints);
+  model.weights = Eigen::VectorXd::Constant(space.numBasis(), 2.0);
+  io::writeSplineModel(dir + "/v4.msp", model);
+  const std::string bytes = test::fileText(dir + "/v4.msp");
+  CHECK(io::detail::decode<std::uint32_t>(bytes.data() + 8, false) == 4);
+  // The old rows: the anchors off the caps.
+  std::vector<char> cap(std::size_t(cube.mesh.numVertices), 0);
+  for (const auto& face : space.capFaces())
+    for (int v : cube.mesh.faces[std::size_t(face.face)].vertices) cap[std::size_t(v)] = 1;
+  std::vector<int> oldRows;
+  for (int a = 0; a < space.numBasis(); ++a)
+    if (!cap[std::size_t(space.anchors()[std::size_t(a)].vertex)]) oldRows.push_back(a);
+  REQUIRE(int(oldRows.size()) == space.numBasis() - 8 * 7);
+  const std::size_t weights = bytes.size() - (8 + 24 * std::size_t(space.numBasis())) -
+                              (4 + 8 * std::size_t(space.numBasis()));
+  std::string old = patched(bytes.substr(0, weights), 8, std::uint32_t(3));
+  io::detail::appendLittleEndian(old, std::uint32_t(oldRows.size()));
+  for (std::size_t r = 0; r < oldRows.size(); ++r) io::detail::appendLittleEndian(old, 2.0);
+  io::detail::appendLittleEndian(old, std::uint32_t(oldRows.size()));
+  io::detail::appendLittleEndian(old, std::uint32_t(3));
+  for (int a : oldRows)
+    for (int c = 0; c < 3; ++c) io::detail::appendLittleEndian(old, model.controlPoints(a, c));
+  writeBytes(dir + "/v3.msp", old);
+  const SplineModel back = io::readSplineModel(dir + "/v3.msp");
+  REQUIRE(back.controlPoints.rows() == space.numBasis());
+  CHECK(back.weights == model.weights);
+  for (int a : oldRows) CHECK(back.controlPoints.row(a) == model.controlPoints.row(a));
+  // A cone and its ring get the ring averages of the anchored points: near the net, not equal.
+  for (int v = 0; v < cube.mesh.numVertices; ++v) {
+    if (!cube.mesh.isExtraordinary(v)) continue;
+    const int a = space.anchorOfVertex()[std::size_t(v)];
+    const double gap = (back.controlPoints.row(a) - model.controlPoints.row(a)).norm();
+    CHECK(gap > 0.0);
+    CHECK(gap < 0.5);
+  }
+  // Too many rows for the T-mesh before caps: named.
+  writeBytes(dir + "/v3wrong.msp", patched(bytes, 8, std::uint32_t(3)));
+  CHECK_THAT(inputError(dir + "/v3wrong.msp"),
+             Catch::Contains("v3wrong.msp") && Catch::Contains("blending functions before caps"));
 }

@@ -269,9 +269,10 @@ TEST_CASE("surface_fit: a few functions with a huge energy do not weaken the fai
 
 TEST_CASE("surface_fit: the fairing quadrature covers every face, cones' faces included",
           "[spline]") {
-  // A cube's T-mesh: its corners are extraordinary, the T-spline has a hole around each, and the
-  // fairing must still reach every face there (where the surface would otherwise fold freely).
-  const test::CubeTMesh cube = test::cubeTMesh(4);
+  // A cube's T-mesh: its corners are extraordinary, each with a cap (8 cells a side keep them 5
+  // cells apart), and the fairing must reach every face there too (where the surface would
+  // otherwise fold freely).
+  const test::CubeTMesh cube = test::cubeTMesh(8);
   const spline::TSplineSpace space(cube.mesh);
   const Eigen::VectorXd weights;
   const spline::TSplineFitSpace fitSpace(space, weights);

@@ -63,7 +63,7 @@ TEST_CASE("check_model: near cones the raw partition of unity is not counted", "
   CHECK(check.knotRouteDiscrepancy == 0.0);
 }
 
-TEST_CASE("check_model: a fitted T-spline agrees across faces, with holes at its cones",
+TEST_CASE("check_model: a fitted T-spline agrees across faces, with caps at its cones",
           "[spline]") {
   const spline::SplineModel& model = headModel("tspline");
   spline::CheckOptions options;
@@ -75,8 +75,8 @@ TEST_CASE("check_model: a fitted T-spline agrees across faces, with holes at its
   CHECK(result.degree == 3);
   CHECK(result.maxChartDiscrepancy <= 1e-12);
   CHECK(result.tspline.samples == options.samples);
-  // The cones are extraordinary vertices, which anchor no blending function.
-  CHECK(result.missingAnchors > 0);
+  // The cones are extraordinary vertices with caps: every vertex anchors a blending function.
+  CHECK(result.missingAnchors == 0);
 }
 
 TEST_CASE("check_model: subdivision models and wrong control points are refused", "[spline]") {

@@ -6,6 +6,7 @@
 
 #include "mspline/spline/tspline/tspline.h"
 #include "mspline/spline/tspline/tspline_adaptive_fit.h"
+#include "mspline/spline/tspline/tspline_cap.h"
 #include "mspline/spline/tspline/tspline_fit_space.h"
 #include "mspline/structure/core/constants.h"
 #include "support/test_tmeshes.h"
@@ -173,10 +174,11 @@ TEST_CASE("tspline_adaptive_fit: a fold stiffens the fairing there instead of re
   CHECK(lambdas[1] == Approx(lambdas[0]).epsilon(1e-2));
 }
 
-TEST_CASE("tspline_adaptive_fit: faces near an extraordinary vertex are not split", "[spline]") {
+TEST_CASE("tspline_adaptive_fit: cap regions at extraordinary vertices are split whole",
+          "[spline]") {
   // A cube's T-mesh (8 corners of valence 3) fitted to a sphere; the measurement reports a stray
-  // point on every face, so every face may be split and take a stray sample, except those with a
-  // vertex within two rings of faces of a corner.
+  // point on every face, so every face is split and takes a stray sample, the corners' cap regions
+  // included, and every corner keeps its cap (no T-junction enters a cap region).
   const int k = 8;
   const test::CubeTMesh cube = test::cubeTMesh(k);
   const auto onSphere = [&](const spline::FacePoint& p) {
@@ -215,30 +217,8 @@ TEST_CASE("tspline_adaptive_fit: faces near an extraordinary vertex are not spli
   const spline::TSplineAdaptiveFitResult result =
       spline::fitTSplineAdaptively(cube.mesh, parameters, targets, options);
   REQUIRE(result.rounds.size() == 2);
-  // Ring distance of every vertex from the corners, by faces.
-  std::vector<int> ring(std::size_t(cube.mesh.numVertices), 1 << 20);
-  for (int v = 0; v < cube.mesh.numVertices; ++v)
-    if (cube.mesh.isExtraordinary(v)) ring[std::size_t(v)] = 0;
-  for (int step = 0; step < 4; ++step)
-    for (const auto& face : cube.mesh.faces) {
-      int nearest = 1 << 20;
-      for (const int v : face.vertices) nearest = std::min(nearest, ring[std::size_t(v)]);
-      for (const int v : face.vertices)
-        ring[std::size_t(v)] = std::min(ring[std::size_t(v)], nearest + 1);
-    }
-  int split = 0, kept = 0;
-  for (int f = 0; f < inputFaces; ++f) {
-    const auto& vertices = cube.mesh.faces[std::size_t(f)].vertices;
-    const bool near = std::any_of(vertices.begin(), vertices.end(),
-                                  [&](int v) { return ring[std::size_t(v)] <= 2; });
-    const bool wasSplit = result.mesh.faces[std::size_t(f)].width < 1.0;
-    CHECK(wasSplit == !near);
-    split += wasSplit;
-    kept += !wasSplit;
-  }
-  INFO("split " << split << " kept " << kept);
-  CHECK(split > 0);
-  CHECK(kept > 0);
-  // Stray points near the corners are not samples either.
-  CHECK(result.rounds.front().addedSamples == split);
+  for (int f = 0; f < inputFaces; ++f) CHECK(result.mesh.faces[std::size_t(f)].width < 1.0);
+  CHECK(result.mesh.numFaces() == 4 * inputFaces);
+  CHECK(spline::capRegions(result.mesh).size() == 8);
+  CHECK(result.rounds.front().addedSamples == inputFaces);
 }

@@ -141,10 +141,10 @@ TEST_CASE("tspline_tessellate: T-junction faces are stitched watertight", "[spli
   }
 }
 
-TEST_CASE("tspline_tessellate: holes at extraordinary vertices are closed without NaN",
+TEST_CASE("tspline_tessellate: extraordinary vertices are sampled on the surface itself",
           "[spline]") {
-  // The surface of the cube [0, k]^3 in unit cells: 8 extraordinary vertices of valence 3, where
-  // the T-spline has no blending function and the denominator vanishes.
+  // The surface of the cube [0, k]^3 in unit cells: 8 extraordinary vertices of valence 3, each
+  // with a cap: the sample is the cone point, its normal the cap's one normal there.
   const test::CubeTMesh cube = test::cubeTMesh(5);
   const TSplineSpace space(cube.mesh);
   const TMesh& mesh = space.mesh();
@@ -156,39 +156,24 @@ TEST_CASE("tspline_tessellate: holes at extraordinary vertices are closed withou
     CHECK(use.oriented);
     CHECK(use.boundaryEdges == 0);
     CHECK(eulerCharacteristic(t) == 2);
-    CHECK(t.minDenominator > 0.0);
+    CHECK(t.minDenominator == Approx(1.0).margin(1e-12));
     CHECK(worstAgainstEvaluate(space, control, {}, t) <= 1e-12);
-    // The holes are the extraordinary vertices, and their samples lie near the surface around
-    // them: inside the cube's box, close to the neighbouring samples.
-    REQUIRE(t.holeVertices.size() == 8);
-    for (int h : t.holeVertices) {
-      const auto& p = t.vertexPoints[std::size_t(h)];
-      const auto& face = mesh.faces[std::size_t(p.face)];
-      int corner = -1;
-      for (std::size_t c = 0; c < 4; ++c)
-        if (face.positions[c] == p.position) corner = face.vertices[c];
-      REQUIRE(corner >= 0);
-      CHECK(mesh.isExtraordinary(corner));
-      const Eigen::Vector3d x(t.mesh.positions[std::size_t(h)].data());
-      CHECK(x.allFinite());
-      CHECK(x.cwiseAbs().maxCoeff() <= 1.0);
-      // The hole sample is the mean of the surface just inside the faces around the vertex,
-      // evaluated directly.
-      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-      int around = 0;
-      for (int f = 0; f < mesh.numFaces(); ++f)
-        for (std::size_t c = 0; c < 4; ++c)
-          if (mesh.faces[std::size_t(f)].vertices[c] == corner) {
-            const Eigen::Vector2d q = mesh.faces[std::size_t(f)].positions[c];
-            const Eigen::Vector2d inside = q + t.holeOffset * (Eigen::Vector2d(0.5, 0.5) - q);
-            const auto point = space.evaluate(control, {}, f, inside, 0);
-            CHECK(point.denominator > 0.0);
-            mean += point.position;
-            ++around;
-          }
-      CHECK(around == 3);
-      CHECK((x - mean / around).norm() <= 1e-9);
+    CHECK(t.holeVertices.empty());
+    CHECK(t.collapsedEdgeSamples == 0);
+    int cones = 0;
+    for (int v = 0; v < mesh.numVertices; ++v) {
+      if (!mesh.isExtraordinary(v)) continue;
+      ++cones;
+      const auto& p = t.vertexPoints[std::size_t(v)];
+      const auto point = space.evaluate(control, {}, p.face, p.position);
+      const Eigen::Vector3d x(t.mesh.positions[std::size_t(v)].data());
+      CHECK((x - point.position).norm() <= 1e-12);
+      const Eigen::Vector3d normal(t.normals[std::size_t(v)].data());
+      CHECK((normal - point.normal).norm() <= 1e-12);
+      // The cube's corner points outwards.
+      CHECK(normal.dot(x) > 0.0);
     }
+    CHECK(cones == 8);
   }
 }
 
