@@ -105,14 +105,24 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
     std::iota(order.begin(), order.end(), 0);
     std::sort(order.begin(), order.end(),
               [&](int a, int b) { return faceError[std::size_t(a)] > faceError[std::size_t(b)]; });
-    const int budget = (options.maxControlPoints - space.numBasis()) / 5;
-    std::vector<int> marked;
+    const std::size_t budget =
+        std::size_t(std::max(0, (options.maxControlPoints - space.numBasis()) / 5));
+    std::vector<int> candidates;
     for (const int f : order) {
-      if (faceError[std::size_t(f)] <= threshold || int(marked.size()) >= budget) break;
-      if (!folded[std::size_t(f)]) marked.push_back(f);
+      if (faceError[std::size_t(f)] <= threshold) break;
+      if (!folded[std::size_t(f)]) candidates.push_back(f);
     }
-    // Cap regions at cones are split whole or not at all (no T-junction may enter them).
-    marked = withWholeCapRegions(result.mesh, marked);
+    // Cap regions at cones are split whole or not at all (no T-junction may enter them): the
+    // longest run of candidates, worst first, whose faces with their whole regions fit the budget.
+    const auto closure = [&](std::size_t count) {
+      return withWholeCapRegions(result.mesh, {candidates.begin(), candidates.begin() + count});
+    };
+    std::size_t fitting = 0, over = candidates.size() + 1;
+    while (over - fitting > 1) {
+      const std::size_t middle = (fitting + over) / 2;
+      (closure(middle).size() <= budget ? fitting : over) = middle;
+    }
+    const std::vector<int> marked = closure(fitting);
     summary.splitFaces = int(marked.size());
     // The stray points join the samples (unit weight: they are points of the scan).
     std::vector<Eigen::Index> strays(check.strays.size());
