@@ -243,8 +243,15 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
   BuildSplineOptions build;
   build.kind = options.kind == FitKind::TriBSpline ? SpaceKind::TriBSpline : SpaceKind::TSpline;
   build.control = options.control > 0 ? options.control : options.maxControl * 3 / 4;
-  SplineSpaceBuild setup =
-      buildWithinBudget(flattening, options, build, result.stageSeconds, progress);
+  // The model knows its fills from the start: the T-spline loop measures it against the scan
+  // without them (measuring the fills made head's surface-to-scan RMS 0.024 instead of 2.5e-4).
+  const auto buildSpace = [&] {
+    SplineSpaceBuild built =
+        buildWithinBudget(flattening, options, build, result.stageSeconds, progress);
+    if (capped) built.model.surfaceFaceFilled = filledFace;
+    return built;
+  };
+  SplineSpaceBuild setup = buildSpace();
   clock.lap();
   SurfaceFitOptions fitOptions;
   fitOptions.smoothing = options.smoothing;
@@ -321,14 +328,13 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
       build.density = refinementDensity(surface, sampleVertex, fit.distances, tolerance);
       build.control = options.maxControl;
       report(progress, "refining the domain where the error is above the tolerance");
-      setup = buildWithinBudget(flattening, options, build, result.stageSeconds, progress);
+      setup = buildSpace();
       sampleVertex = scanSampleVertices(setup, scanVertex, filledFace, options.fillWeight,
                                         fitOptions.sampleWeights);
     }
   }
   SplineModel& model = setup.model;
   model.controlPoints = std::move(fit.controlPoints);
-  if (capped) model.surfaceFaceFilled = filledFace;
   addStageSeconds(result.stageSeconds, "fit", clock.lap());
 
   // Honest errors: the scan's vertices to their closest points on the surface, points all over
