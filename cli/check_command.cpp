@@ -5,8 +5,8 @@
 #include <optional>
 
 #include "cli/command.h"
-#include "cli/quality_json.h"
 #include "mspline/io/load_mesh.h"
+#include "mspline/io/quality_report.h"
 #include "mspline/io/spline_model_file.h"
 #include "mspline/spline/model/check_model.h"
 #include "mspline/structure/core/stopwatch.h"
@@ -150,12 +150,12 @@ void addCheckCommand(CLI::App& app, Command& command) {
                           ? tsplineReport(a.model, result)
                           : triBSplineReport(a.model, result);
         if (scan) report["scan"] = a.scan;
-        report["quality"] = qualityJson(quality);
+        report["quality"] = Json::parse(io::qualityJson(quality));
         report["seconds"] = clock.lap();
         printJson(report);
       } else {
         if (!subd) printSummary(result);
-        std::cout << qualitySummary(quality) << std::endl;
+        std::cout << io::qualitySummary(quality) << std::endl;
       }
       return result.passed ? int(kExitSuccess) : int(kExitComputationFailed);
     };

@@ -4,8 +4,8 @@
 #include <iostream>
 
 #include "cli/command.h"
-#include "cli/quality_json.h"
 #include "mspline/io/export_model.h"
+#include "mspline/io/quality_report.h"
 #include "mspline/io/spline_model_file.h"
 #include "mspline/structure/core/stopwatch.h"
 
@@ -100,7 +100,7 @@ int runExport(const ExportArguments& a, const Command& command) {
   if (!a.errorMap.empty()) report["error_map"] = errorMapReport(options, result.scanErrors);
   if (!a.png.empty()) report["png"] = a.png;
   if (!a.png.empty() && a.markDefects) report["marked_faces"] = result.markedFaces;
-  report["quality"] = qualityJson(quality);
+  report["quality"] = Json::parse(io::qualityJson(quality));
   report["seconds"] = clock.lap();
   if (command.json) {
     printJson(report);
@@ -113,7 +113,7 @@ int runExport(const ExportArguments& a, const Command& command) {
     if (!a.png.empty() && a.markDefects)
       std::cout << "marked " << result.markedFaces << " triangles at creases and folds in " << a.png
                 << std::endl;
-    std::cout << "quality: " << qualitySummary(quality) << std::endl;
+    std::cout << "quality: " << io::qualitySummary(quality) << std::endl;
   }
   return int(kExitSuccess);
 }

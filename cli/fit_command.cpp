@@ -9,9 +9,9 @@
 
 #include "cli/command.h"
 #include "cli/flatten_options.h"
-#include "cli/quality_json.h"
 #include "cli/spline_space_json.h"
 #include "mspline/io/load_mesh.h"
+#include "mspline/io/quality_report.h"
 #include "mspline/io/spline_model_file.h"
 #include "mspline/spline/model/fit_scan.h"
 #include "mspline/structure/core/stopwatch.h"
@@ -179,14 +179,14 @@ void addFitCommand(CLI::App& app, Command& command) {
                    {{"converged", fit.flatten.converged},
                     {"max_curvature_error", fit.flatten.maxCurvatureError},
                     {"flips", fit.flatten.flips}}},
-                  {"quality", qualityJson(fit.quality)},
+                  {"quality", Json::parse(io::qualityJson(fit.quality))},
                   {"seconds", total.lap()},
                   {"stage_seconds", stages}};
       if (command.json) {
         printJson(report);
       } else {
         std::cout << a.kind << ": " << fit.model.controlPoints.rows() << " control points; "
-                  << qualitySummary(fit.quality) << "\nwrote " << a.output << std::endl;
+                  << io::qualitySummary(fit.quality) << "\nwrote " << a.output << std::endl;
       }
       return int(kExitSuccess);
     };

@@ -1,12 +1,13 @@
 // mspline.fit and Model.quality: the library's fitting pipeline (spline::fitScan) and its
-// measurement (spline::measureQuality's distances) on arrays, without the GIL, with progress
-// through a Python callable.
+// measurement (spline::measureQuality, reported as the CLI's `quality` object) on arrays, without
+// the GIL, with progress through a Python callable.
 #include <optional>
 #include <string>
 #include <utility>
 
 #include <pybind11/stl.h>
 
+#include "mspline/io/quality_report.h"
 #include "mspline/spline/model/fit_scan.h"
 #include "mspline/spline/quality/surface_quality.h"
 #include "python/src/arrays.h"
@@ -16,7 +17,12 @@ namespace mspline::python {
 
 namespace {
 
-// The keys of `mspline fit --json` (with the 99th percentiles and the diagonal besides).
+// The `quality` object of `mspline fit|check|export --json`, from the one builder the CLI uses.
+py::dict qualityDict(const spline::SurfaceQuality& quality) {
+  return py::dict(py::module_::import("json").attr("loads")(io::qualityJson(quality)));
+}
+
+// The flat keys of `mspline fit --json` (with the 99th percentiles and the diagonal besides).
 py::dict errorsDict(const spline::SurfaceQuality& quality) {
   const spline::SurfaceDistances& d = quality.distances;
   py::dict out;
@@ -68,6 +74,7 @@ py::dict fitReport(const spline::FitResult& result, const spline::FitOptions& op
   py::dict seconds;
   for (const auto& [stage, value] : result.stageSeconds) seconds[py::str(stage)] = value;
   report["stage_seconds"] = seconds;
+  report["quality"] = qualityDict(result.quality);
   return report;
 }
 
@@ -107,7 +114,7 @@ py::dict quality(const Model& self, const py::handle& vertices, const py::handle
     const structure::TriMesh scan = validatedMesh(soup);
     quality = spline::measureQuality(self.model, &scan, options);
   }
-  return errorsDict(quality);
+  return qualityDict(quality);
 }
 
 }  // namespace
@@ -130,10 +137,10 @@ void bindFit(py::module_& module, py::class_<Model>& model) {
       "fraction); name: names the scan in messages. Returns a Model whose fit_report "
       "holds the figures of `mspline fit --json`.");
   model.def("quality", &quality, py::arg("V"), py::arg("F"),
-            "The errors both ways against the scan (V, F) the model was fitted to, relative to "
-            "its bounding-box diagonal, by exact closest points: dict of rms_error, p99_error, "
-            "max_error (scan to surface), rms_error_surface_to_scan, ..., diagonal, and the "
-            "folds.");
+            "The surface's quality against the scan (V, F) the model was fitted to: the `quality` "
+            "object of `mspline check --scan --json` as a dict: distances both ways relative to "
+            "the bounding-box diagonal (exact closest points), folds, smoothness (dihedral "
+            "angles at two resolutions), regularity, seconds.");
 }
 
 }  // namespace mspline::python

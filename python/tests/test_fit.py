@@ -5,7 +5,7 @@ import pytest
 
 import mspline
 from conftest import TSPLINE_FIT_ARGUMENTS
-from helpers import counts_alongside, diagonal
+from helpers import assert_same_figures, counts_alongside, diagonal, without_timings
 
 
 @pytest.fixture(scope="module")
@@ -43,7 +43,7 @@ def test_the_fit_report_tells_how_the_fit_went(fitted):
 def test_the_fit_report_has_the_figures_of_mspline_fit_json(fitted, eight_msp):
     report = fitted[0].fit_report
     expected = json.loads(eight_msp.with_suffix(".json").read_text())
-    shared = set(report) & set(expected) - {"stage_seconds", "refinement"}
+    shared = set(report) & set(expected) - {"stage_seconds", "refinement", "quality"}
     assert {"control_points", "rms_error", "max_error_surface_to_scan", "reached_tolerance",
             "rounds", "flatten"} <= shared
     for key in shared:
@@ -54,14 +54,46 @@ def test_the_fit_report_has_the_figures_of_mspline_fit_json(fitted, eight_msp):
     for ours, theirs in zip(report["refinement"], expected["refinement"], strict=True):
         assert ours["control_points"] == theirs["control_points"]
         assert ours["rms_error"] == pytest.approx(theirs["rms_error"], rel=1e-12)
+    # The whole `quality` object, as the CLI prints it (the same builder).
+    assert_same_figures(without_timings(report["quality"]), without_timings(expected["quality"]),
+                        rel=1e-12, where="quality")
 
 
 def test_quality_measures_what_the_fit_reported(fitted, eight):
     model, _ = fitted
     quality = model.quality(*eight)
-    for key in ("rms_error", "max_error", "rms_error_surface_to_scan",
-                "max_error_surface_to_scan"):
-        assert quality[key] == pytest.approx(model.fit_report[key], rel=1e-9)
+    report = model.fit_report
+    distances = quality["distances"]
+    assert quality["with_scan"] is True
+    assert distances["scan_to_surface"]["rms"] == pytest.approx(report["rms_error"], rel=1e-9)
+    assert distances["scan_to_surface"]["max"] == pytest.approx(report["max_error"], rel=1e-9)
+    assert distances["surface_to_scan"]["max"] == pytest.approx(
+        report["max_error_surface_to_scan"], rel=1e-9)
+    assert_same_figures(without_timings(quality), without_timings(report["quality"]), rel=1e-9,
+                        where="quality")
+
+
+def test_quality_reports_folds_smoothness_and_regularity(fitted, eight):
+    model, _ = fitted
+    quality = model.quality(*eight)
+    folds = quality["folds"]
+    assert folds["total"] == model.fit_report["folds"] >= 0
+    assert 0 <= folds["fraction"] <= 1
+    assert folds["triangles"] > 0
+    smoothness = quality["smoothness"]
+    coarse, fine = smoothness["coarse"], smoothness["fine"]
+    assert fine["resolution"] == 2 * coarse["resolution"]
+    for dihedral in (coarse, fine):
+        assert dihedral["pairs"] > 0
+        assert 0 <= dihedral["p50"] <= dihedral["p99"] <= dihedral["p99_9"] <= dihedral["max"]
+        assert dihedral["max"] <= 180
+    # A smooth fit's dihedral angles shrink as the tessellation refines.
+    assert fine["p99"] < coarse["p99"]
+    assert smoothness["p99_ratio"] == pytest.approx(coarse["p99"] / fine["p99"], rel=1e-9)
+    regularity = quality["regularity"]
+    assert regularity["samples"] > 0 and regularity["median_jacobian"] > 0
+    assert 0 < regularity["min_relative_jacobian"] <= 1
+    assert quality["seconds"] > 0
 
 
 def test_progress_is_called_with_a_stage_and_a_fraction(fitted):

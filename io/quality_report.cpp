@@ -1,10 +1,15 @@
-#include "cli/quality_json.h"
+#include "mspline/io/quality_report.h"
 
 #include <sstream>
 
-namespace mspline::cli {
+#include <nlohmann/json.hpp>
+
+namespace mspline::io {
 
 namespace {
+
+// Ordered: the keys print in the order they are set.
+using Json = nlohmann::ordered_json;
 
 // A place on the surface; null when there is none.
 Json locationJson(const spline::SurfaceLocation& at) {
@@ -34,7 +39,7 @@ Json dihedralJson(const spline::DihedralPercentiles& d) {
 
 }  // namespace
 
-Json qualityJson(const spline::SurfaceQuality& quality) {
+std::string qualityJson(const spline::SurfaceQuality& quality) {
   const spline::SurfaceFolds& folds = quality.folds;
   const spline::SurfaceSmoothness& smooth = quality.smoothness;
   const spline::SurfaceRegularity& regularity = quality.regularity;
@@ -64,7 +69,7 @@ Json qualityJson(const spline::SurfaceQuality& quality) {
                        {"min_relative_jacobian", regularity.minRelativeJacobian},
                        {"min_at", locationJson(regularity.minAt)}};
   out["seconds"] = quality.seconds;
-  return out;
+  return out.dump();
 }
 
 std::string qualitySummary(const spline::SurfaceQuality& quality) {
@@ -84,4 +89,4 @@ std::string qualitySummary(const spline::SurfaceQuality& quality) {
   return out.str();
 }
 
-}  // namespace mspline::cli
+}  // namespace mspline::io
