@@ -2,6 +2,8 @@
 // that names the scan.
 #include <catch2/catch.hpp>
 
+#include <unistd.h>
+
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -15,10 +17,12 @@ using namespace mspline;
 
 namespace {
 
-// A small T-spline fit of the knot, shared by the cases of this file.
+// A small T-spline fit of the knot, shared by the cases of this file run in one process (ctest
+// runs cases in parallel processes: a directory of this process's own).
 const std::string& knotModel() {
-  static const std::string path =
-      test::fitModel("knot1.off", "tspline", test::scratchDirectory("cli_quality") + "/knot.msp");
+  static const std::string path = test::fitModel(
+      "knot1.off", "tspline",
+      test::scratchDirectory("cli_quality_" + std::to_string(getpid())) + "/knot.msp");
   return path;
 }
 
