@@ -206,10 +206,18 @@ TMeshTessellation tessellateTMeshSurface(const TMesh& mesh, const TMeshSurface& 
         grid[at(r - i, r)] = ring[std::size_t(2 * r + i)];
         grid[at(0, r - i)] = ring[std::size_t(3 * r + i)];
       }
+      // Each quadrant's diagonals point at its face corner: at a cone of valence 2 the corner's
+      // right angle opens to a straight one, and a triangle with the corner between its other
+      // two vertices would be flat, facing anywhere (a false fold).
       for (int j = 0; j < r; ++j)
         for (int i = 0; i < r; ++i) {
-          triangle(grid[at(i, j)], grid[at(i + 1, j)], grid[at(i + 1, j + 1)]);
-          triangle(grid[at(i, j)], grid[at(i + 1, j + 1)], grid[at(i, j + 1)]);
+          if ((2 * i < r) == (2 * j < r)) {
+            triangle(grid[at(i, j)], grid[at(i + 1, j)], grid[at(i + 1, j + 1)]);
+            triangle(grid[at(i, j)], grid[at(i + 1, j + 1)], grid[at(i, j + 1)]);
+          } else {
+            triangle(grid[at(i, j)], grid[at(i + 1, j)], grid[at(i, j + 1)]);
+            triangle(grid[at(i + 1, j)], grid[at(i + 1, j + 1)], grid[at(i, j + 1)]);
+          }
         }
       continue;
     }

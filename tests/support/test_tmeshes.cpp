@@ -2,7 +2,11 @@
 
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <cmath>
+#include <complex>
 #include <map>
+
+#include "mspline/structure/core/constants.h"
 
 namespace mspline::test {
 
@@ -153,6 +157,55 @@ Eigen::MatrixXd anchorControl(const spline::TSplineSpace& space,
   Eigen::MatrixXd control(space.numBasis(), 3);
   for (int a = 0; a < space.numBasis(); ++a)
     control.row(a) = vertexPoints.row(space.anchors()[a].vertex);
+  return control;
+}
+
+int StarTMesh::id(int k, int i, int j) const {
+  if (i == 0 && j == 0) return 0;
+  if (i == 0) return id((k + 1) % n, j, 0);
+  return 1 + k * kSide * (kSide + 1) + j * kSide + (i - 1);
+}
+
+StarTMesh starTMesh(int n) {
+  constexpr int kSide = StarTMesh::kSide;
+  StarTMesh star;
+  star.n = n;
+  std::vector<spline::TMeshFace> faces;
+  for (int k = 0; k < n; ++k)
+    for (int b = 0; b < kSide; ++b)
+      for (int a = 0; a < kSide; ++a) {
+        spline::TMeshFace face;
+        const int corner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+        for (const auto& c : corner) {
+          face.vertices.push_back(star.id(k, a + c[0], b + c[1]));
+          face.positions.emplace_back(c[0], c[1]);
+        }
+        faces.push_back(face);
+      }
+  const int numVertices = 1 + n * kSide * (kSide + 1);
+  star.where.assign(std::size_t(numVertices), {0, 0, 0});
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j <= kSide; ++j)
+      for (int i = 1; i <= kSide; ++i) star.where[std::size_t(star.id(k, i, j))] = {k, i, j};
+  star.mesh = spline::buildTMesh(numVertices, faces);
+  return star;
+}
+
+Eigen::MatrixXd starControl(const StarTMesh& star, const spline::TSplineSpace& space, double h) {
+  const auto smooth = [](const Eigen::Vector2d& p) {
+    return Eigen::Vector3d(p.x(), p.y(),
+                           0.4 * p.x() * p.x() - 0.3 * p.x() * p.y() + 0.6 * p.y() * p.y() +
+                               0.2 * std::pow(p.x(), 3));
+  };
+  Eigen::MatrixXd control(space.numBasis(), 3);
+  for (int a = 0; a < space.numBasis(); ++a) {
+    const auto [k, i, j] = star.where[std::size_t(space.anchors()[std::size_t(a)].vertex)];
+    const std::complex<double> z(i, j);
+    const double angle =
+        (i == 0 && j == 0 ? 0.0 : std::arg(z)) * 4.0 / star.n + 2.0 * kPi * k / star.n;
+    const std::complex<double> w = h * std::abs(z) * std::polar(1.0, angle);
+    control.row(a) = smooth({w.real(), w.imag()}).transpose();
+  }
   return control;
 }
 

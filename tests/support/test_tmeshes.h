@@ -67,4 +67,22 @@ Eigen::VectorXd randomWeights(int n, unsigned seed);
 Eigen::MatrixXd anchorControl(const spline::TSplineSpace& space,
                               const Eigen::MatrixXd& vertexPoints);
 
+/// n sectors of kSide x kSide unit cells glued around vertex 0, an extraordinary vertex of
+/// valence n (a cone): sector k's column i = 0 is sector k + 1's row j = 0. Face of cell (a, b) of
+/// sector k: face(k, a, b), its frame the sector frame translated to the cell.
+struct StarTMesh {
+  static constexpr int kSide = 6;
+  spline::TMesh mesh;
+  int n = 0;
+  std::vector<std::array<int, 3>> where;  // per vertex: a sector and (i, j) in it
+  int id(int k, int i, int j) const;
+  int face(int k, int a, int b) const { return k * kSide * kSide + b * kSide + a; }
+};
+StarTMesh starTMesh(int n);
+
+/// Control points of a star's anchors on a smooth graph over the plane, at the characteristic
+/// positions scaled by h (sector k's quadrant opened to the angle 2 pi / n:
+/// z -> |z| exp(i (4/n arg z + 2 pi k / n))).
+Eigen::MatrixXd starControl(const StarTMesh& star, const spline::TSplineSpace& space, double h);
+
 }  // namespace mspline::test

@@ -20,68 +20,10 @@ using spline::TSplineSpace;
 
 namespace {
 
-constexpr int kSide = 6;  // cells per sector side
-
-// n sectors of kSide x kSide unit cells glued around vertex 0: sector k's column i = 0 is sector
-// k + 1's row j = 0. Face of cell (a, b) of sector k: k * kSide^2 + b * kSide + a, its frame the
-// sector frame translated to the cell.
-struct StarMesh {
-  spline::TMesh mesh;
-  int n = 0;
-  std::vector<std::array<int, 3>> where;  // per vertex: a sector and (i, j) in it
-  int id(int k, int i, int j) const {
-    if (i == 0 && j == 0) return 0;
-    if (i == 0) return id((k + 1) % n, j, 0);
-    return 1 + k * kSide * (kSide + 1) + j * kSide + (i - 1);
-  }
-  int face(int k, int a, int b) const { return k * kSide * kSide + b * kSide + a; }
-};
-
-StarMesh starMesh(int n) {
-  StarMesh star;
-  star.n = n;
-  std::vector<spline::TMeshFace> faces;
-  for (int k = 0; k < n; ++k)
-    for (int b = 0; b < kSide; ++b)
-      for (int a = 0; a < kSide; ++a) {
-        spline::TMeshFace face;
-        const int corner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-        for (const auto& c : corner) {
-          face.vertices.push_back(star.id(k, a + c[0], b + c[1]));
-          face.positions.emplace_back(c[0], c[1]);
-        }
-        faces.push_back(face);
-      }
-  const int numVertices = 1 + n * kSide * (kSide + 1);
-  star.where.assign(std::size_t(numVertices), {0, 0, 0});
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j <= kSide; ++j)
-      for (int i = 1; i <= kSide; ++i) star.where[std::size_t(star.id(k, i, j))] = {k, i, j};
-  star.mesh = spline::buildTMesh(numVertices, faces);
-  return star;
-}
-
-// A smooth surface over the plane.
-Eigen::Vector3d smooth(const Eigen::Vector2d& p) {
-  return {
-      p.x(), p.y(),
-      0.4 * p.x() * p.x() - 0.3 * p.x() * p.y() + 0.6 * p.y() * p.y() + 0.2 * std::pow(p.x(), 3)};
-}
-
-// Control points: the surface at the characteristic positions scaled by h (sector k's quadrant
-// opened to the angle 2 pi / n: z -> |z| exp(i (4/n arg z + 2 pi k / n))).
-Eigen::MatrixXd starControl(const StarMesh& star, const TSplineSpace& space, double h) {
-  Eigen::MatrixXd control(space.numBasis(), 3);
-  for (int a = 0; a < space.numBasis(); ++a) {
-    const auto [k, i, j] = star.where[std::size_t(space.anchors()[std::size_t(a)].vertex)];
-    const std::complex<double> z(i, j);
-    const double angle =
-        (i == 0 && j == 0 ? 0.0 : std::arg(z)) * 4.0 / star.n + 2.0 * kPi * k / star.n;
-    const std::complex<double> w = h * std::abs(z) * std::polar(1.0, angle);
-    control.row(a) = smooth({w.real(), w.imag()}).transpose();
-  }
-  return control;
-}
+constexpr int kSide = test::StarTMesh::kSide;
+using test::StarTMesh;
+using test::starControl;
+using test::starTMesh;
 
 double angleBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b));
@@ -93,7 +35,7 @@ struct Jumps {
   double sectorNormal = 0.0, outerNormal = 0.0, outerDerivative = 0.0;
 };
 
-Jumps capJumps(const StarMesh& star, const TSplineSpace& space, const Eigen::MatrixXd& control) {
+Jumps capJumps(const StarTMesh& star, const TSplineSpace& space, const Eigen::MatrixXd& control) {
   Jumps jumps;
   const Eigen::VectorXd unit;
   for (int k = 0; k < star.n; ++k) {
@@ -122,7 +64,7 @@ Jumps capJumps(const StarMesh& star, const TSplineSpace& space, const Eigen::Mat
 TEST_CASE("tspline caps: partition of unity, a point and a normal at the cone", "[spline]") {
   for (const int n : {2, 3, 5, 6}) {
     INFO("valence " << n);
-    const StarMesh star = starMesh(n);
+    const StarTMesh star = starTMesh(n);
     const TSplineSpace space(star.mesh);
     CHECK(space.missingAnchors().empty());
     CHECK(int(space.capFaces().size()) == n);
@@ -177,7 +119,7 @@ TEST_CASE("tspline caps: C1 across the outer sides, normal jumps O(h) across sec
           "[spline]") {
   for (const int n : {2, 3, 5, 6}) {
     INFO("valence " << n);
-    const StarMesh star = starMesh(n);
+    const StarTMesh star = starTMesh(n);
     const TSplineSpace space(star.mesh);
     const Jumps coarse = capJumps(star, space, starControl(star, space, 0.2));
     const Jumps fine = capJumps(star, space, starControl(star, space, 0.1));
@@ -197,7 +139,7 @@ TEST_CASE("tspline caps: C1 across the outer sides, normal jumps O(h) across sec
 
 TEST_CASE("tspline caps: valence 4 is the uniform B-spline", "[spline]") {
   // A regular vertex of a grid, capped anyway: the patch is the B-spline's Bezier form.
-  const StarMesh star = starMesh(4);
+  const StarTMesh star = starTMesh(4);
   const TSplineSpace space(star.mesh);  // no cone: ordinary B-splines everywhere
   CHECK(space.capFaces().empty());
   spline::TSplineCapRegion region;
@@ -229,7 +171,7 @@ TEST_CASE("tspline caps: valence 4 is the uniform B-spline", "[spline]") {
 }
 
 TEST_CASE("tspline caps: Bezier extraction and moved knots agree with evaluation", "[spline]") {
-  const StarMesh star = starMesh(5);
+  const StarTMesh star = starTMesh(5);
   const TSplineSpace space(star.mesh);
   const Eigen::MatrixXd control = starControl(star, space, 0.25);
   const spline::TSplineBezier bezier(space, control);
@@ -249,7 +191,7 @@ TEST_CASE("tspline caps: Bezier extraction and moved knots agree with evaluation
 
 TEST_CASE("tspline caps: a T-junction in a cone's cap region is refused", "[spline]") {
   spline::TSplineCapRegion region;
-  const StarMesh star = starMesh(3);
+  const StarTMesh star = starTMesh(3);
   // Cut the cell (2, 1) of sector 0: a T-junction inside the cap region.
   spline::TMesh cut = star.mesh;
   {
@@ -271,7 +213,7 @@ TEST_CASE("tspline caps: a T-junction in a cone's cap region is refused", "[spli
 
 TEST_CASE("tspline caps: refinement keeps caps, or makes them where cones are close", "[spline]") {
   // A face in a cap region: the whole region (16 cells a sector) is split with it.
-  const StarMesh star = starMesh(3);
+  const StarTMesh star = starTMesh(3);
   const std::vector<int> faces =
       spline::withWholeCapRegions(star.mesh, {star.face(1, 2, 1), star.face(2, 5, 5)});
   CHECK(faces.size() == 2 + 3 * 16 - 1);

@@ -5,8 +5,11 @@
 #include <map>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "mspline/spline/tspline/tspline.h"
 #include "mspline/spline/tspline/tspline_tessellate.h"
+#include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
 #include "support/test_tmeshes.h"
 
@@ -174,6 +177,57 @@ TEST_CASE("tspline_tessellate: extraordinary vertices are sampled on the surface
       CHECK(normal.dot(x) > 0.0);
     }
     CHECK(cones == 8);
+  }
+}
+
+TEST_CASE("tspline_tessellate: no flat or folded triangles at cones of any valence", "[spline]") {
+  // At a cone of valence 2 a face corner's right angle opens to a straight angle: a triangle with
+  // the corner between its other two vertices would be flat and face anywhere.
+  for (const int n : {2, 3, 5}) {
+    INFO("valence " << n);
+    const test::StarTMesh star = test::starTMesh(n);
+    // Cells' frames turned by quarter turns that differ from sector to sector, so that the cone
+    // is not always the corner (0, 0).
+    constexpr std::size_t cells = test::StarTMesh::kSide * test::StarTMesh::kSide;
+    std::vector<spline::TMeshFace> turned;
+    for (std::size_t f = 0; f < star.mesh.faces.size(); ++f) {
+      const spline::TMeshFace& face = star.mesh.faces[f];
+      spline::TMeshFace cell;
+      for (std::size_t k = 0; k < 4; ++k) {
+        cell.vertices.push_back(face.vertices[(k + f + f / cells) % 4]);
+        cell.positions.push_back(face.positions[k]);
+      }
+      turned.push_back(cell);
+    }
+    const TSplineSpace space(spline::buildTMesh(star.mesh.numVertices, turned));
+    const Eigen::MatrixXd control = test::starControl(star, space, 0.1);
+    for (int r : {3, 6}) {
+      INFO("resolution " << r);
+      const auto t = spline::tessellateTSpline(space, control, {}, r);
+      const auto normalOf = [&](const std::array<std::int64_t, 3>& f) {
+        const Eigen::Vector3d a(t.mesh.positions[std::size_t(f[0])].data());
+        const Eigen::Vector3d b(t.mesh.positions[std::size_t(f[1])].data());
+        const Eigen::Vector3d c(t.mesh.positions[std::size_t(f[2])].data());
+        return Eigen::Vector3d((b - a).cross(c - a));
+      };
+      std::map<std::pair<std::int64_t, std::int64_t>, Eigen::Vector3d> sides;
+      double smallestUp = 1.0, largestTurn = 0.0;
+      for (const auto& face : t.mesh.faces) {
+        const std::array<std::int64_t, 3> f{face[0], face[1], face[2]};
+        const Eigen::Vector3d normal = normalOf(f).normalized();
+        // The surface is a graph over the plane: every triangle faces up.
+        smallestUp = std::min(smallestUp, normal.z());
+        for (int k = 0; k < 3; ++k) {
+          const auto across = sides.find({f[std::size_t((k + 1) % 3)], f[std::size_t(k)]});
+          if (across != sides.end())
+            largestTurn = std::max(largestTurn, std::acos(std::clamp(
+                                                    normal.dot(across->second), -1.0, 1.0)));
+          sides[{f[std::size_t(k)], f[std::size_t((k + 1) % 3)]}] = normal;
+        }
+      }
+      CHECK(smallestUp > 0.5);
+      CHECK(largestTurn * 180.0 / kPi < 30.0);
+    }
   }
 }
 
