@@ -1,12 +1,15 @@
 #include "mspline/spline/model/filled_faces.h"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <limits>
 
 #include "mspline/spline/subd/subd_fit_space.h"
 #include "mspline/spline/tribspline/tri_bspline.h"
 #include "mspline/spline/tspline/tspline.h"
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/mesh/bounding_box.h"
 #include "mspline/structure/mesh/closest_point.h"
 
 namespace mspline::spline {
@@ -58,19 +61,49 @@ std::vector<char> facesOverScan(const structure::PolygonSoup& tessellation,
   bool anyFilled = false;
   for (const char filled : model.surfaceFaceFilled) anyFilled = anyFilled || filled;
   if (!anyFilled) return over;
-  const structure::TriangleMeshDistance surface(surfaceVertexImages(model), model.surfaceFaces);
-  std::vector<Eigen::Vector3d> centroids;
+  const Eigen::MatrixX3d images = surfaceVertexImages(model);
+  std::vector<std::array<int, 3>> scanFaces, fillFaces;
+  for (std::size_t f = 0; f < model.surfaceFaces.size(); ++f)
+    (model.surfaceFaceFilled[f] ? fillFaces : scanFaces).push_back(model.surfaceFaces[f]);
+  if (scanFaces.empty()) return std::vector<char>(tessellation.faces.size(), 0);
+  const structure::TriangleMeshDistance scan(images, scanFaces);
+  const structure::TriangleMeshDistance fill(images, fillFaces);
+  std::vector<Eigen::Vector3d> centroids, normals;
   for (const auto& face : tessellation.faces) {
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    std::vector<Eigen::Vector3d> corners;
     for (const auto v : face) {
       const auto& p = tessellation.positions[std::size_t(v)];
-      sum += Eigen::Vector3d(p[0], p[1], p[2]);
+      corners.emplace_back(p[0], p[1], p[2]);
     }
-    centroids.push_back(sum / double(face.size()));
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero(), normal = Eigen::Vector3d::Zero();
+    for (std::size_t k = 0; k < corners.size(); ++k) {
+      sum += corners[k];
+      normal += corners[k].cross(corners[(k + 1) % corners.size()]);
+    }
+    centroids.push_back(sum / double(corners.size()));
+    normals.push_back(normal);
   }
-  const auto closest = surface.queryAll(centroids);
-  for (std::size_t f = 0; f < closest.size(); ++f)
-    over[f] = model.surfaceFaceFilled[std::size_t(closest[f].face)] ? 0 : 1;
+  const auto onScan = scan.queryAll(centroids);
+  const auto onFill = fill.queryAll(centroids);
+  const auto faceNormal = [&](const structure::TriangleMeshDistance& mesh, int f) {
+    const auto& t = mesh.triangles()[std::size_t(f)];
+    const Eigen::Vector3d a = images.row(t[0]), b = images.row(t[1]), c = images.row(t[2]);
+    return Eigen::Vector3d((b - a).cross(c - a));
+  };
+  // A fill may lie on the scan itself (a planar hole in a plane: the closed surface is a flat
+  // pillow), so distance alone cannot tell the sides apart. Within the fit's tolerance of both,
+  // the side that faces the way the triangle does wins.
+  const double tie = 1e-3 * structure::boundingBoxDiagonal(images);
+  for (std::size_t f = 0; f < centroids.size(); ++f) {
+    const double ds = onScan[f].distance, df = onFill[f].distance;
+    bool scanSide = ds <= df;
+    if (std::abs(ds - df) <= tie) {
+      const bool scanAgrees = faceNormal(scan, onScan[f].face).dot(normals[f]) > 0.0;
+      const bool fillAgrees = faceNormal(fill, onFill[f].face).dot(normals[f]) > 0.0;
+      if (scanAgrees != fillAgrees) scanSide = scanAgrees;
+    }
+    over[f] = scanSide ? 1 : 0;
+  }
   return over;
 }
 

@@ -20,7 +20,9 @@ Eigen::MatrixX3d surfaceVertexImages(const SplineModel& model);
 /// the model's surface mesh carried onto the spline (its vertices moved to surfaceVertexImages)
 /// that is closest to the face's centroid is not filled. Classifying on the spline itself, not
 /// on the mesh, keeps a fill that bulges differently from the mesh's patch on the right side.
-/// All 1 when the model has no filled faces.
+/// Where the scan and a fill are equally near (within 1e-3 of the diagonal: a fill lying on the
+/// scan), the one whose nearest triangle faces the same way as the face decides. All 1 when the
+/// model has no filled faces.
 std::vector<char> facesOverScan(const structure::PolygonSoup& tessellation,
                                 const SplineModel& model);
 

@@ -92,6 +92,42 @@ TEST_CASE("export_surface: trimming removes the faces over the filled holes of a
   CHECK(spline::exportSurface(unfilled, "head", options).trimmedFaces == 0);
 }
 
+TEST_CASE("export_surface: a fill lying on its scan is told apart by the way it faces",
+          "[spline]") {
+  // plane.off is a flat square: the patch that closes its boundary lies on the scan itself, so
+  // the closed surface is a flat pillow and both sides are at distance 0 from scan and fill.
+  const spline::SplineModel& model =
+      test::fittedModel("plane.off", "tspline", "--control 300 --max-control 500");
+  REQUIRE(std::count(model.surfaceFaceFilled.begin(), model.surfaceFaceFilled.end(), char(1)) > 0);
+  spline::ExportOptions options;
+  options.resolution = 4;
+  const spline::ExportResult trimmed = spline::exportSurface(model, "plane", options);
+  options.trimFills = false;
+  const spline::ExportResult whole = spline::exportSurface(model, "plane", options);
+  // The scan faces +y. What is kept faces it, what is trimmed faces away: the rim where the
+  // pillow turns over is the only place either way.
+  const auto facing = [](const structure::PolygonSoup& soup, double& up, double& down) {
+    up = down = 0.0;
+    for (std::size_t f = 0; f < soup.faces.size(); ++f) {
+      const auto at = [&](int k) {
+        const auto& p = soup.positions[std::size_t(soup.faces[f][std::size_t(k)])];
+        return Eigen::Vector3d(p[0], p[1], p[2]);
+      };
+      const Eigen::Vector3d n = 0.5 * (at(1) - at(0)).cross(at(2) - at(0));
+      (n.y() > 0.0 ? up : down) += n.norm();
+    }
+  };
+  double keptUp = 0.0, keptDown = 0.0, allUp = 0.0, allDown = 0.0;
+  facing(trimmed.surface.mesh, keptUp, keptDown);
+  facing(whole.surface.mesh, allUp, allDown);
+  INFO("kept: " << keptUp << " up, " << keptDown << " down; whole: " << allUp << " up, "
+                << allDown << " down");
+  CHECK(keptDown < 0.01 * keptUp);
+  // The scan's area: the square [-0.625, 0.625]^2 (the pillow's rim reaches a little beyond).
+  CHECK(keptUp == Approx(1.5625).epsilon(0.05));
+  CHECK(allUp > keptUp);
+}
+
 TEST_CASE("export_surface: the resolution chosen from a tolerance meets it and is the smallest",
           "[spline]") {
   // A T-spline: its estimate is close (a triangular B-spline's second derivatives in chart units
