@@ -188,24 +188,35 @@ ClosestSurfacePoint project(const FitSpace& space, const Eigen::MatrixXd& contro
   return out;
 }
 
-// Per vertex of `scan`, its unit normal: the sum of its faces' area vectors, normalized.
-std::vector<Vector3d> scanVertexNormals(const structure::TriMesh& scan) {
-  std::vector<Vector3d> normals(scan.n_vertices(), Vector3d::Zero());
-  for (const auto f : scan.faces()) {
+// The unit normals of the scan's faces at the point of face `face` with barycentric coordinates
+// `at`: the face's own, or inside an edge or at a vertex, those of every face holding it.
+void scanNormalsAt(const structure::TriMesh& scan, int face, const Vector3d& at,
+                   std::vector<Vector3d>& normals) {
+  normals.clear();
+  const auto handle = scan.face_handle(face);
+  std::array<structure::TriMesh::VertexHandle, 3> corners;
+  int k = 0;
+  for (const auto v : scan.fv_range(handle)) corners[std::size_t(k++)] = v;
+  std::vector<structure::TriMesh::VertexHandle> holding;
+  for (int c = 0; c < 3; ++c)
+    if (at[c] > 0.0) holding.push_back(corners[std::size_t(c)]);
+  for (const auto f : scan.vf_range(holding.front())) {
+    bool holds = true;
+    for (const auto v : holding) {
+      bool corner = false;
+      for (const auto w : scan.fv_range(f)) corner = corner || w == v;
+      holds = holds && corner;
+    }
+    if (!holds) continue;
     std::array<Vector3d, 3> p;
-    std::array<int, 3> index{};
-    int k = 0;
+    int c = 0;
     for (const auto v : scan.fv_range(f)) {
       const auto& q = scan.point(v);
-      index[std::size_t(k)] = v.idx();
-      p[std::size_t(k++)] = {q[0], q[1], q[2]};
+      p[std::size_t(c++)] = {q[0], q[1], q[2]};
     }
-    const Vector3d area = (p[1] - p[0]).cross(p[2] - p[0]);
-    for (const int v : index) normals[std::size_t(v)] += area;
+    const Vector3d n = (p[1] - p[0]).cross(p[2] - p[0]);
+    if (n.norm() > 0.0) normals.push_back(n.normalized());
   }
-  for (Vector3d& n : normals)
-    if (n.norm() > 0.0) n.normalize();
-  return normals;
 }
 
 // The spread of `distances` (absolute) relative to `unit`, the maximum at locate(its index).
@@ -302,7 +313,6 @@ void measureAgainstScan(const ModelSurface& surface, const Eigen::MatrixXd& cont
   }
 
   // Folds against the scan: the coarse tessellation's kept triangles, at their centroids.
-  const std::vector<Vector3d> scanNormals = scanVertexNormals(scan);
   std::vector<std::size_t> faces;
   std::vector<Vector3d> centroids;
   for (std::size_t f = 0; f < coarse.t.mesh.faces.size(); ++f)
@@ -313,13 +323,16 @@ void measureAgainstScan(const ModelSurface& surface, const Eigen::MatrixXd& cont
   const std::vector<structure::ClosestPoint> onScan = scanDistance.queryAll(centroids);
   SurfaceFolds& folds = quality.folds;
   folds.triangles = int(faces.size());
+  std::vector<Vector3d> scanNormals;
   for (std::size_t k = 0; k < faces.size(); ++k) {
-    const auto& corners = scanFaces[std::size_t(onScan[k].face)];
-    Vector3d normal = Vector3d::Zero();
-    for (int c = 0; c < 3; ++c)
-      normal += onScan[k].barycentric[c] * scanNormals[std::size_t(corners[std::size_t(c)])];
-    if (normal.norm() == 0.0) continue;
-    const double angle = degrees(coarse.faces.normals[faces[k]].dot(normal.normalized()));
+    // The scan's normal is its triangles': interpolated vertex normals turn away from the faces
+    // of a coarse polyhedron (a third of 3torus's triangles would have counted as folds).
+    scanNormalsAt(scan, onScan[k].face, onScan[k].barycentric, scanNormals);
+    if (scanNormals.empty()) continue;
+    double closest = -1.0;
+    for (const Vector3d& n : scanNormals)
+      closest = std::max(closest, coarse.faces.normals[faces[k]].dot(n));
+    const double angle = degrees(closest);
     if (angle <= 90.0) continue;
     ++folds.againstScan;
     const SurfaceLocation at{centroids[k],

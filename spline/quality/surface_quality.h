@@ -83,8 +83,9 @@ struct SurfaceDistances {
 /// Folds: where the surface turns over.
 struct SurfaceFolds {
   /// Triangles of the coarser tessellation (over the scan) whose normal makes more than 90 degrees
-  /// with the scan's normal at the closest scan point to their centroid (the scan's vertex
-  /// normals, area-weighted, interpolated there), out of `triangles`; 0 without a scan.
+  /// with the scan's normal at the closest scan point to their centroid (the normal of the scan
+  /// triangle there; on a scan edge or vertex, the closest of the normals of the triangles holding
+  /// it), out of `triangles`; 0 without a scan.
   int againstScan = 0;
   int triangles = 0;
   /// againstScan / triangles.

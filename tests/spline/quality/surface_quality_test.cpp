@@ -166,6 +166,32 @@ TEST_CASE("surface_quality: a crease keeps its dihedral angle at any resolution"
   CHECK(std::count(none.begin(), none.end(), 1) == 0);
 }
 
+TEST_CASE("surface_quality: folds are judged against the scan's triangles, not its vertex normals",
+          "[spline]") {
+  // The scan: the flat grid's rectangle, with a large flap folded back under each side (a thin
+  // sheet's rim). The flaps outweigh the rectangle in every corner's area-weighted normal, so
+  // normals interpolated from the vertices point down all over the rectangle; its triangles
+  // point up, as the flat surface does.
+  spline::SplineModel model = gridModel(6, 5, flat);
+  structure::PolygonSoup soup;
+  soup.positions = {{0, 0, 0}, {6, 0, 0}, {6, 5, 0}, {0, 5, 0}};
+  soup.faces = {{0, 1, 2}, {0, 2, 3}};
+  const std::array<std::array<double, 3>, 4> under = {
+      {{3.0, 60.0, -1.0}, {-54.0, 2.5, -1.0}, {3.0, -55.0, -1.0}, {60.0, 2.5, -1.0}}};
+  for (std::int64_t k = 0; k < 4; ++k) {
+    soup.positions.push_back(under[std::size_t(k)]);
+    soup.faces.push_back({(k + 1) % 4, k, 4 + k});
+  }
+  const structure::TriMesh scan = structure::toTriMesh(soup);
+  model.surfaceVertices = structure::pointMatrix(soup.positions);
+  model.surfaceFaces = structure::triangleIndices(soup);
+  model.surfaceVertexTMeshPoints.assign(soup.positions.size(), {0, {0.0, 0.0}});
+  const spline::SurfaceQuality q = spline::measureQuality(model, &scan);
+  CHECK(q.folds.triangles > 0);
+  CHECK(q.folds.againstScan == 0);
+  CHECK(q.distances.surfaceToScan.max < 1e-12);
+}
+
 TEST_CASE("surface_quality: a control point pulled through the surface folds it", "[spline]") {
   spline::SplineModel model = gridModel(6, 6, flat);
   const structure::TriMesh scan = scanOf(model, 2, unmoved);
