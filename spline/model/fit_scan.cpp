@@ -69,8 +69,8 @@ Eigen::VectorXd refinementDensity(const TriMesh& surface, const std::vector<int>
 }
 
 // The T-spline of `fit` on `mesh` measured against the scan as a user sees it
-// (surface_quality.h): per T-mesh face the surface point farthest from the scan beyond half the
-// maximum wanted, with its closest scan point, and the folds. `model` carries the scan's surface
+// (surface_quality.h): per T-mesh face the surface point farthest from the scan beyond the stray
+// distance, with its closest scan point, and the folds. `model` carries the scan's surface
 // and fills. A closest scan point is only trusted as a target when it faces the same way as the
 // surface and lies along the surface's normal: not on another sheet of a thin part, not on the
 // rim of a hole beside the surface over its fill (such targets folded the surface on head, elk,
@@ -92,29 +92,13 @@ TSplineSurfaceCheck checkAgainstScan(SplineModel model, const TMesh& mesh,
   const SurfaceQuality quality = measureQuality(model, surface, fit.controlPoints, &scan, measure);
   const SurfaceDistances& d = quality.distances;
   TSplineSurfaceCheck check;
-  // Only the folds between adjacent triangles (details.folds lists them first): they are the
-  // surface's own, while a triangle against the scan's normal can be the scan's doing (3torus's
-  // subd fit has 8,648) and stiffening there pulled the surface 7% of the diagonal off.
-  check.folds.assign(quality.details.folds.begin(),
-                     quality.details.folds.begin() + quality.folds.adjacentPairs);
   check.accepted = std::max(d.scanToSurface.rms, d.surfaceToScan.rms) <= options.tolerance &&
                    std::max(d.scanToSurface.max, d.surfaceToScan.max) <=
                        options.maxErrorFactor * options.tolerance &&
                    quality.folds.total() == 0;
-  const double stray = 0.5 * options.maxErrorFactor * options.tolerance * d.diagonal;
-  std::vector<int> worst(std::size_t(mesh.numFaces()), -1);
-  const auto& samples = quality.details.surfaceSamples;
-  const Eigen::VectorXd& distances = quality.details.surfaceDistances;
-  for (std::size_t k = 0; k < samples.size(); ++k) {
-    int& w = worst[std::size_t(samples[k].face)];
-    if (distances[Eigen::Index(k)] > stray && (w < 0 || distances[Eigen::Index(k)] > distances[w]))
-      w = int(k);
-  }
-  std::vector<Eigen::Vector3d> targets;
   std::vector<FitBasisTerm> terms;
-  for (const int k : worst) {
-    if (k < 0) continue;
-    surface.fitSpace().basisAt(samples[std::size_t(k)], terms, 1);
+  const auto surfacePoint = [&](const FacePoint& p, Eigen::Vector3d& normal) {
+    surface.fitSpace().basisAt(p, terms, 1);
     Eigen::Vector3d point = Eigen::Vector3d::Zero(), ds = point, dt = point;
     for (const auto& term : terms) {
       const Eigen::Vector3d c = fit.controlPoints.row(term.index).transpose();
@@ -122,16 +106,43 @@ TSplineSurfaceCheck checkAgainstScan(SplineModel model, const TMesh& mesh,
       ds += term.ds * c;
       dt += term.dt * c;
     }
-    const Eigen::Vector3d normal = ds.cross(dt).normalized();
-    const ClosestPoint closest = scanDistance.query(point);
-    const auto& corners = scanDistance.triangles()[std::size_t(closest.face)];
+    normal = ds.cross(dt).normalized();
+    return point;
+  };
+  const auto scanNormal = [&](int face) {
+    const auto& corners = scanDistance.triangles()[std::size_t(face)];
     const auto corner = [&](int i) {
       return Eigen::Vector3d(scanDistance.positions().row(corners[std::size_t(i)]).transpose());
     };
-    const Eigen::Vector3d scanNormal =
-        (corner(1) - corner(0)).cross(corner(2) - corner(0)).normalized();
+    return Eigen::Vector3d((corner(1) - corner(0)).cross(corner(2) - corner(0)).normalized());
+  };
+  // Only the folds between adjacent triangles (details.folds lists them first): they are the
+  // surface's own, while a triangle against the scan's normal can be the scan's doing (3torus's
+  // subd fit has 8,648) and stiffening there pulled the surface 7% of the diagonal off.
+  check.folds.assign(quality.details.folds.begin(),
+                     quality.details.folds.begin() + quality.folds.adjacentPairs);
+  // Strays beyond half the maximum wanted; beyond the tolerance when the RMS is off (a
+  // polyhedron's edges rounded over too wide a band).
+  const bool rmsOff = std::max(d.scanToSurface.rms, d.surfaceToScan.rms) > options.tolerance;
+  check.strayDistance =
+      (rmsOff ? 1.0 : 0.5 * options.maxErrorFactor) * options.tolerance * d.diagonal;
+  std::vector<int> worst(std::size_t(mesh.numFaces()), -1);
+  const auto& samples = quality.details.surfaceSamples;
+  const Eigen::VectorXd& distances = quality.details.surfaceDistances;
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    int& w = worst[std::size_t(samples[k].face)];
+    if (distances[Eigen::Index(k)] > check.strayDistance &&
+        (w < 0 || distances[Eigen::Index(k)] > distances[w]))
+      w = int(k);
+  }
+  std::vector<Eigen::Vector3d> targets;
+  for (const int k : worst) {
+    if (k < 0) continue;
+    Eigen::Vector3d normal;
+    const Eigen::Vector3d point = surfacePoint(samples[std::size_t(k)], normal);
+    const ClosestPoint closest = scanDistance.query(point);
     const Eigen::Vector3d offset = (closest.closest - point).normalized();
-    if (normal.dot(scanNormal) > 0.5 && std::abs(offset.dot(normal)) > 0.8) {
+    if (normal.dot(scanNormal(closest.face)) > 0.5 && std::abs(offset.dot(normal)) > 0.8) {
       check.strays.push_back(samples[std::size_t(k)]);
       targets.push_back(closest.closest);
     }

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
 #include <numeric>
 
 #include "mspline/spline/tspline/tspline.h"
@@ -90,8 +89,8 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
             fitOptions.faceFairing[Eigen::Index(f)] * options.foldFairing, options.maxFoldFairing);
     summary.stiffenedFaces = int(std::count(folded.begin(), folded.end(), 1));
     // Beyond the maximum wanted, or (when only the RMS is off) beyond the tolerance; when only
-    // the measurement is off, only the faces of its stray points (beyond half the maximum), not
-    // every face holding a sample above the tolerance.
+    // the measurement is off, only the faces of its stray points, not every face holding a
+    // sample above the tolerance.
     const double maxError = *std::max_element(faceError.begin(), faceError.end());
     const bool samplesWithin = result.fit.rmsError <= options.tolerance &&
                                result.fit.maxError <= options.maxErrorFactor * options.tolerance;
@@ -99,8 +98,9 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
         maxError > options.maxErrorFactor * options.tolerance
             ? std::max(options.tolerance,
                        std::min(0.5 * options.maxErrorFactor * options.tolerance, 0.5 * maxError))
-        : samplesWithin ? 0.5 * options.maxErrorFactor * options.tolerance
-                        : options.tolerance;
+        : !samplesWithin          ? options.tolerance
+        : options.measure ? std::max(options.tolerance, check.strayDistance)
+                          : 0.5 * options.maxErrorFactor * options.tolerance;
     std::vector<int> order(faceError.size());
     std::iota(order.begin(), order.end(), 0);
     std::sort(order.begin(), order.end(),
@@ -125,14 +125,13 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
     const std::vector<int> marked = closure(fitting);
     summary.splitFaces = int(marked.size());
     // The stray points join the samples (unit weight: they are points of the scan).
-    std::vector<Eigen::Index> strays(check.strays.size());
-    std::iota(strays.begin(), strays.end(), Eigen::Index(0));
-    summary.addedSamples = int(strays.size());
-    if (!strays.empty()) {
+    const auto strays = Eigen::Index(check.strays.size());
+    summary.addedSamples = int(strays);
+    if (strays > 0) {
       const Eigen::Index old = samples.rows();
-      samples.conservativeResize(old + Eigen::Index(strays.size()), 3);
-      samples.bottomRows(Eigen::Index(strays.size())) = check.strayTargets(strays, Eigen::all);
-      for (const Eigen::Index k : strays) current.push_back(check.strays[std::size_t(k)]);
+      samples.conservativeResize(old + strays, 3);
+      samples.bottomRows(strays) = check.strayTargets;
+      current.insert(current.end(), check.strays.begin(), check.strays.end());
       if (fitOptions.sampleWeights.size() > 0) {
         fitOptions.sampleWeights.conservativeResize(samples.rows());
         fitOptions.sampleWeights.tail(samples.rows() - old).setOnes();

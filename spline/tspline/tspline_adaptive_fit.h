@@ -23,10 +23,13 @@ namespace mspline::spline {
 
 /// What a measurement of a fitted surface beyond its samples found.
 struct TSplineSurfaceCheck {
-  /// Points of the surface farther from the scan than the tolerance: their parameters on the
+  /// Points of the surface farther from the scan than strayDistance: their parameters on the
   /// T-mesh measured, and per row the closest scan point.
   std::vector<FacePoint> strays;
   Eigen::MatrixX3d strayTargets;
+  /// The distance beyond which surface points are strays (absolute units); their faces are split
+  /// beyond it too.
+  double strayDistance = 0.0;
   /// Parameters where the surface folds.
   std::vector<FacePoint> folds;
   /// The surface is within the tolerance both ways and has no folds.

@@ -130,6 +130,22 @@ TEST_CASE("fit_scan: a T-spline over filled holes is measured without its fills 
   CHECK(fit.reachedTolerance);
 }
 
+TEST_CASE("fit_scan: a T-spline is refined while only the both-way RMS is off (tripod.off)",
+          "[spline]") {
+  // A polyhedron of 24 vertices: the samples are within the tolerance at once, but the surface
+  // rounds the edges over too wide a band. The loop refines where the surface strays beyond the
+  // tolerance (beyond half the maximum, as before, it saw nothing and stopped after one round).
+  const spline::FitOptions options = fitOptions(spline::FitKind::TSpline, 1500, 3e-3, 3);
+  const spline::FitResult fit = checkedFit("tripod.off", options);
+  REQUIRE(fit.rounds.size() >= 2);
+  CHECK(fit.rounds[0].rmsError <= options.tolerance);
+  CHECK(fit.rounds[0].maxError <= options.maxErrorFactor * options.tolerance);
+  CHECK(fit.rounds[0].refinedFaces > 0);
+  const spline::SurfaceDistances& d = fit.quality.distances;
+  CHECK(std::max(d.scanToSurface.rms, d.surfaceToScan.rms) <= options.tolerance);
+  CHECK(fit.reachedTolerance);
+}
+
 TEST_CASE("fit_scan: an unreachable tolerance is reported, not thrown", "[spline]") {
   const spline::FitOptions options = fitOptions(spline::FitKind::TriBSpline, 300, 1e-6, 0, 1);
   const spline::FitResult fit = checkedFit("knot1.off", options);
