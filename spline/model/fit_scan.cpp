@@ -176,16 +176,28 @@ SplineSpaceBuild buildWithinBudget(const Flattening& flattening, const FitOption
     stuck = built.model.domain.faceCount() < faces ? 0 : stuck + 1;
   }
   // A quad layout whose rounding had to halve the cells can come out far above the budget:
-  // coarser targets, a few times.
-  for (int attempt = 0; options.kind != FitKind::TriBSpline && attempt < 3 &&
-                        built.model.tmesh.numVertices > options.maxControl;
+  // coarser targets, a few times, keeping the smallest grid. A coarser target can round to a
+  // finer grid, or not at all (turbine: 13,633 control points, then 55,492, then no grid).
+  if (options.kind == FitKind::TriBSpline) return built;
+  int smallestControl = build.control;
+  for (int attempt = 0; attempt < 3 && built.model.tmesh.numVertices > options.maxControl;
        ++attempt) {
     report(progress, std::to_string(built.model.tmesh.numVertices) +
                          " control points are over the budget; a coarser grid");
     build.control =
         int(0.9 * build.control * options.maxControl / double(built.model.tmesh.numVertices));
-    built = buildOnce();
+    try {
+      SplineSpaceBuild coarser = buildOnce();
+      if (coarser.model.tmesh.numVertices < built.model.tmesh.numVertices) {
+        built = std::move(coarser);
+        smallestControl = build.control;
+      }
+    } catch (const SolverError& e) {
+      report(progress, std::string("no coarser grid (") + e.what() + ")");
+      break;
+    }
   }
+  build.control = smallestControl;
   return built;
 }
 
