@@ -112,7 +112,12 @@ TMesh buildTMesh(int numVertices, std::vector<TMeshFace> faces) {
   mesh.numVertices = numVertices;
   mesh.quarterTurnsAround.assign(static_cast<std::size_t>(numVertices), 0);
   mesh.onBoundary.assign(static_cast<std::size_t>(numVertices), 0);
-  std::map<std::pair<int, int>, std::pair<int, int>> edgeOwner;
+  // Per vertex, the directed edges leaving it: {to, face, side}. Vertices have few edges, so a
+  // scan of a short list beats a map (splitting faces rebuilds the mesh every time).
+  struct Outgoing {
+    int to, face, side;
+  };
+  std::vector<std::vector<Outgoing>> leaving(static_cast<std::size_t>(numVertices));
   for (std::size_t f = 0; f < faces.size(); ++f) {
     TMeshFace& face = faces[f];
     checkRectangle(face, static_cast<int>(f), numVertices);
@@ -126,37 +131,43 @@ TMesh buildTMesh(int numVertices, std::vector<TMeshFace> faces) {
           (std::abs(p.x()) <= tolerance || std::abs(p.x() - face.width) <= tolerance) &&
           (std::abs(p.y()) <= tolerance || std::abs(p.y() - face.height) <= tolerance);
       mesh.quarterTurnsAround[face.vertices[k]] += corner ? 1 : 2;
-      const std::pair<int, int> key{face.vertices[k], face.vertices[(k + 1) % n]};
-      if (!edgeOwner.emplace(key, std::make_pair(static_cast<int>(f), static_cast<int>(k))).second)
-        throw InputError(faceName(static_cast<int>(f)) + " uses the edge from vertex " +
-                         std::to_string(key.first) + " to " + std::to_string(key.second) +
-                         " that another face uses in the same direction");
+      const int from = face.vertices[k], to = face.vertices[(k + 1) % n];
+      auto& out = leaving[static_cast<std::size_t>(from)];
+      for (const Outgoing& e : out)
+        if (e.to == to)
+          throw InputError(faceName(static_cast<int>(f)) + " uses the edge from vertex " +
+                           std::to_string(from) + " to " + std::to_string(to) +
+                           " that another face uses in the same direction");
+      out.push_back({to, static_cast<int>(f), static_cast<int>(k)});
     }
   }
   std::vector<int> edgesAt(static_cast<std::size_t>(numVertices), 0);
   std::vector<int> boundaryEdgesAt(static_cast<std::size_t>(numVertices), 0);
-  for (const auto& [key, owner] : edgeOwner) {
-    ++edgesAt[key.first];
-    const auto twin = edgeOwner.find({key.second, key.first});
-    TMeshFace& face = faces[owner.first];
-    if (twin == edgeOwner.end()) {
-      mesh.onBoundary[key.first] = mesh.onBoundary[key.second] = 1;
-      ++boundaryEdgesAt[key.first];
-      continue;
+  for (int from = 0; from < numVertices; ++from)
+    for (const Outgoing& e : leaving[static_cast<std::size_t>(from)]) {
+      ++edgesAt[from];
+      const Outgoing* twin = nullptr;
+      for (const Outgoing& back : leaving[static_cast<std::size_t>(e.to)])
+        if (back.to == from) twin = &back;
+      TMeshFace& face = faces[e.face];
+      if (!twin) {
+        mesh.onBoundary[from] = mesh.onBoundary[e.to] = 1;
+        ++boundaryEdgesAt[from];
+        continue;
+      }
+      const TMeshFace& other = faces[twin->face];
+      const std::size_t k = e.side, j = twin->side;
+      const double length =
+          (face.positions[(k + 1) % face.positions.size()] - face.positions[k]).norm();
+      const double otherLength =
+          (other.positions[(j + 1) % other.positions.size()] - other.positions[j]).norm();
+      if (std::abs(length - otherLength) > 1e-9 * std::max(length, otherLength))
+        throw InputError(faceName(e.face) + " edge " + std::to_string(k) + " has length " +
+                         std::to_string(length) + " but its twin in " + faceName(twin->face) +
+                         " has " + std::to_string(otherLength));
+      face.twinFace[k] = twin->face;
+      face.twinEdge[k] = static_cast<int>(j);
     }
-    const TMeshFace& other = faces[twin->second.first];
-    const std::size_t k = owner.second, j = twin->second.second;
-    const double length =
-        (face.positions[(k + 1) % face.positions.size()] - face.positions[k]).norm();
-    const double otherLength =
-        (other.positions[(j + 1) % other.positions.size()] - other.positions[j]).norm();
-    if (std::abs(length - otherLength) > 1e-9 * std::max(length, otherLength))
-      throw InputError(faceName(owner.first) + " edge " + std::to_string(k) + " has length " +
-                       std::to_string(length) + " but its twin in " + faceName(twin->second.first) +
-                       " has " + std::to_string(otherLength));
-    face.twinFace[k] = twin->second.first;
-    face.twinEdge[k] = static_cast<int>(j);
-  }
   for (int v = 0; v < numVertices; ++v) {
     if (edgesAt[v] == 0) throw InputError("T-mesh vertex " + std::to_string(v) + " is in no face");
     // One fan: at most one boundary edge leaves the vertex.
