@@ -188,18 +188,24 @@ ClosestSurfacePoint project(const FitSpace& space, const Eigen::MatrixXd& contro
   return out;
 }
 
-// The unit normals of the scan's faces at the point of face `face` with barycentric coordinates
-// `at`: the face's own, or inside an edge or at a vertex, those of every face holding it.
-void scanNormalsAt(const structure::TriMesh& scan, int face, const Vector3d& at,
-                   std::vector<Vector3d>& normals) {
-  normals.clear();
-  const auto handle = scan.face_handle(face);
+// The cosine of the smallest angle between `normal` and the scan's normal at the point of face
+// `face` with barycentric coordinates `at`: the face's own unit normal (`faceNormals`), or inside
+// an edge or at a vertex the nearest of those of the faces holding it; -2 when all of those are
+// degenerate (zero normals).
+double cosineToScan(const structure::TriMesh& scan, const std::vector<Vector3d>& faceNormals,
+                    int face, const Vector3d& at, const Vector3d& normal) {
+  const auto cosine = [&](int f) {
+    const Vector3d& n = faceNormals[std::size_t(f)];
+    return n.isZero() ? -2.0 : normal.dot(n);
+  };
+  if ((at.array() > 0.0).all()) return cosine(face);
   std::array<structure::TriMesh::VertexHandle, 3> corners;
   int k = 0;
-  for (const auto v : scan.fv_range(handle)) corners[std::size_t(k++)] = v;
+  for (const auto v : scan.fv_range(scan.face_handle(face))) corners[std::size_t(k++)] = v;
   std::vector<structure::TriMesh::VertexHandle> holding;
   for (int c = 0; c < 3; ++c)
     if (at[c] > 0.0) holding.push_back(corners[std::size_t(c)]);
+  double best = -2.0;
   for (const auto f : scan.vf_range(holding.front())) {
     bool holds = true;
     for (const auto v : holding) {
@@ -207,16 +213,9 @@ void scanNormalsAt(const structure::TriMesh& scan, int face, const Vector3d& at,
       for (const auto w : scan.fv_range(f)) corner = corner || w == v;
       holds = holds && corner;
     }
-    if (!holds) continue;
-    std::array<Vector3d, 3> p;
-    int c = 0;
-    for (const auto v : scan.fv_range(f)) {
-      const auto& q = scan.point(v);
-      p[std::size_t(c++)] = {q[0], q[1], q[2]};
-    }
-    const Vector3d n = (p[1] - p[0]).cross(p[2] - p[0]);
-    if (n.norm() > 0.0) normals.push_back(n.normalized());
+    if (holds) best = std::max(best, cosine(f.idx()));
   }
+  return best;
 }
 
 // The spread of `distances` (absolute) relative to `unit`, the maximum at locate(its index).
@@ -323,16 +322,21 @@ void measureAgainstScan(const ModelSurface& surface, const Eigen::MatrixXd& cont
   const std::vector<structure::ClosestPoint> onScan = scanDistance.queryAll(centroids);
   SurfaceFolds& folds = quality.folds;
   folds.triangles = int(faces.size());
-  std::vector<Vector3d> scanNormals;
+  // The scan's normal is its triangles': interpolated vertex normals turn away from the faces of
+  // a coarse polyhedron (a third of 3torus's triangles would have counted as folds).
+  std::vector<Vector3d> scanFaceNormals;
+  scanFaceNormals.reserve(scanFaces.size());
+  for (const auto& t : scanFaces) {
+    const Vector3d n = (scanPoints.row(t[1]) - scanPoints.row(t[0]))
+                           .cross(scanPoints.row(t[2]) - scanPoints.row(t[0]))
+                           .transpose();
+    scanFaceNormals.push_back(n.norm() > 0.0 ? Vector3d(n.normalized()) : Vector3d::Zero());
+  }
   for (std::size_t k = 0; k < faces.size(); ++k) {
-    // The scan's normal is its triangles': interpolated vertex normals turn away from the faces
-    // of a coarse polyhedron (a third of 3torus's triangles would have counted as folds).
-    scanNormalsAt(scan, onScan[k].face, onScan[k].barycentric, scanNormals);
-    if (scanNormals.empty()) continue;
-    double closest = -1.0;
-    for (const Vector3d& n : scanNormals)
-      closest = std::max(closest, coarse.faces.normals[faces[k]].dot(n));
-    const double angle = degrees(closest);
+    const double cosine = cosineToScan(scan, scanFaceNormals, onScan[k].face,
+                                       onScan[k].barycentric, coarse.faces.normals[faces[k]]);
+    if (cosine < -1.5) continue;
+    const double angle = degrees(cosine);
     if (angle <= 90.0) continue;
     ++folds.againstScan;
     const SurfaceLocation at{centroids[k],
