@@ -191,14 +191,23 @@ ClosestSurfacePoint project(const FitSpace& space, const Eigen::MatrixXd& contro
 // The cosine of the smallest angle between `normal` and the scan's normal at the point of face
 // `face` with barycentric coordinates `at`: the face's own unit normal (`faceNormals`), or inside
 // an edge or at a vertex the nearest of those of the faces holding it; -2 when all of those are
-// degenerate (zero normals).
+// degenerate (zero normals). A face `flipped` (folded against most of its neighbours: a sliver
+// turned over, as scanners leave them at rims) has no one normal: the nearest of its own and its
+// neighbours' counts.
 double cosineToScan(const structure::TriMesh& scan, const std::vector<Vector3d>& faceNormals,
-                    int face, const Vector3d& at, const Vector3d& normal) {
-  const auto cosine = [&](int f) {
-    const Vector3d& n = faceNormals[std::size_t(f)];
-    return n.isZero() ? -2.0 : normal.dot(n);
+                    const std::vector<char>& flipped, int face, const Vector3d& at,
+                    const Vector3d& normal) {
+  const auto cosine = [&](structure::TriMesh::FaceHandle f) {
+    const auto faceCosine = [&](structure::TriMesh::FaceHandle g) {
+      const Vector3d& n = faceNormals[std::size_t(g.idx())];
+      return n.isZero() ? -2.0 : normal.dot(n);
+    };
+    double best = faceCosine(f);
+    if (flipped[std::size_t(f.idx())])
+      for (const auto g : scan.ff_range(f)) best = std::max(best, faceCosine(g));
+    return best;
   };
-  if ((at.array() > 0.0).all()) return cosine(face);
+  if ((at.array() > 0.0).all()) return cosine(scan.face_handle(face));
   std::array<structure::TriMesh::VertexHandle, 3> corners;
   int k = 0;
   for (const auto v : scan.fv_range(scan.face_handle(face))) corners[std::size_t(k++)] = v;
@@ -213,7 +222,7 @@ double cosineToScan(const structure::TriMesh& scan, const std::vector<Vector3d>&
       for (const auto w : scan.fv_range(f)) corner = corner || w == v;
       holds = holds && corner;
     }
-    if (holds) best = std::max(best, cosine(f.idx()));
+    if (holds) best = std::max(best, cosine(f));
   }
   return best;
 }
@@ -332,8 +341,18 @@ void measureAgainstScan(const ModelSurface& surface, const Eigen::MatrixXd& cont
                            .transpose();
     scanFaceNormals.push_back(n.norm() > 0.0 ? Vector3d(n.normalized()) : Vector3d::Zero());
   }
+  std::vector<char> flippedScanFaces(scanFaceNormals.size(), 0);
+  for (const auto f : scan.faces()) {
+    int neighbours = 0, against = 0;
+    for (const auto g : scan.ff_range(f)) {
+      ++neighbours;
+      against +=
+          scanFaceNormals[std::size_t(f.idx())].dot(scanFaceNormals[std::size_t(g.idx())]) < 0.0;
+    }
+    flippedScanFaces[std::size_t(f.idx())] = 2 * against > neighbours;
+  }
   for (std::size_t k = 0; k < faces.size(); ++k) {
-    const double cosine = cosineToScan(scan, scanFaceNormals, onScan[k].face,
+    const double cosine = cosineToScan(scan, scanFaceNormals, flippedScanFaces, onScan[k].face,
                                        onScan[k].barycentric, coarse.faces.normals[faces[k]]);
     if (cosine < -1.5) continue;
     const double angle = degrees(cosine);

@@ -85,7 +85,9 @@ struct SurfaceFolds {
   /// Triangles of the coarser tessellation (over the scan) whose normal makes more than 90 degrees
   /// with the scan's normal at the closest scan point to their centroid (the normal of the scan
   /// triangle there; on a scan edge or vertex, the closest of the normals of the triangles holding
-  /// it), out of `triangles`; 0 without a scan.
+  /// it; a scan triangle flipped, folded by more than 90 degrees against most of its neighbours,
+  /// has no one normal: the closest of its own and its neighbours'), out of `triangles`; 0 without
+  /// a scan.
   int againstScan = 0;
   int triangles = 0;
   /// againstScan / triangles.

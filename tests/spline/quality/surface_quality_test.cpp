@@ -192,6 +192,39 @@ TEST_CASE("surface_quality: folds are judged against the scan's triangles, not i
   CHECK(q.distances.surfaceToScan.max < 1e-12);
 }
 
+TEST_CASE("surface_quality: a flipped scan triangle is judged by its neighbours' normals",
+          "[spline]") {
+  // The scan: the grid's rectangle just below the flat surface, and a sliver hinged on its front
+  // edge and folded back over it, facing down (scanners leave such slivers at rims: a quarter of
+  // the data set has scan triangles folded against a neighbour). Above the sliver, the surface
+  // is closer to it than to the rectangle.
+  spline::SplineModel model = gridModel(6, 5, flat);
+  structure::PolygonSoup soup;
+  soup.positions = {{0, 0, -0.01}, {6, 0, -0.01}, {6, 5, -0.01}, {0, 5, -0.01}, {3, 1.5, 0.0}};
+  soup.faces = {{0, 1, 2}, {0, 2, 3}, {1, 0, 4}};
+  const structure::TriMesh scan = structure::toTriMesh(soup);
+  model.surfaceVertices = structure::pointMatrix(soup.positions);
+  model.surfaceFaces = structure::triangleIndices(soup);
+  model.surfaceVertexTMeshPoints.assign(soup.positions.size(), {0, {0.0, 0.0}});
+  spline::QualityOptions options;
+  options.details = true;
+  const spline::ModelSurface surface(model, "flat");
+  const spline::SurfaceQuality q =
+      spline::measureQuality(model, surface, model.controlPoints, &scan, options);
+  // Some of the surface's closest scan points are on the sliver: the rectangle is 0.01 away.
+  const Eigen::VectorXd& d = q.details.surfaceDistances;
+  REQUIRE((d.array() < 0.009).count() > 0);
+  CHECK(q.folds.againstScan == 0);
+  // A fold of the surface over the rectangle still counts, although the rectangle's triangle
+  // has the sliver for a neighbour.
+  const spline::TSplineSpace space(model.tmesh);
+  const int row = space.anchorOfVertex()[3 * 7 + 3];
+  REQUIRE(row >= 0);
+  Eigen::MatrixXd pulled = model.controlPoints;
+  pulled(row, 0) += 3.0;
+  CHECK(spline::measureQuality(model, surface, pulled, &scan, options).folds.againstScan > 0);
+}
+
 TEST_CASE("surface_quality: a control point pulled through the surface folds it", "[spline]") {
   spline::SplineModel model = gridModel(6, 6, flat);
   const structure::TriMesh scan = scanOf(model, 2, unmoved);
