@@ -44,8 +44,12 @@ std::string fitModel(const std::string& meshName, const std::string& kind, const
                          "--control 300 --max-control 500 --rounds 1 "
                          "--max-refinements 0");
 
-/// The model fitModel fits with these arguments, read back: fitted once per test executable, so
-/// the tests that use the same small model share one fit.
+/// The arguments of the small models tests share: one refinement round (T-junctions) and no more;
+/// the rounds after it only add samples and took a minute of a sanitized test's time.
+inline const std::string kSmallFit = "--control 300 --max-control 500 --max-refinements 1";
+
+/// The model fitModel fits with these arguments, read back: fitted once per test process, so the
+/// sections of a test that use the same small model share one fit.
 const spline::SplineModel& fittedModel(const std::string& meshName, const std::string& kind,
                                        const std::string& arguments);
 

@@ -13,7 +13,7 @@ namespace {
 
 // A small model of `kind` fitted to head.off (3 holes filled, 4 cones).
 const spline::SplineModel& headModel(const std::string& kind) {
-  return test::fittedModel("head.off", kind, "--control 300 --max-control 500");
+  return test::fittedModel("head.off", kind, test::kSmallFit);
 }
 
 }  // namespace
@@ -21,8 +21,7 @@ const spline::SplineModel& headModel(const std::string& kind) {
 TEST_CASE("check_model: a fitted triangular B-spline agrees across charts and sums to one",
           "[spline]") {
   // knot1 is a torus: no cones, every sample counts for the raw partition of unity.
-  const spline::SplineModel& model =
-      test::fittedModel("knot1.off", "tribspline", "--control 300 --max-control 500");
+  const spline::SplineModel& model = test::fittedModel("knot1.off", "tribspline", test::kSmallFit);
   spline::CheckOptions options;
   options.samples = 2000;
   options.knotSamples = 40;

@@ -19,7 +19,7 @@ namespace {
 
 // A small triangular B-spline fitted to head.off, whose 3 holes were filled for the fit.
 const spline::SplineModel& headModel() {
-  return test::fittedModel("head.off", "tribspline", "--control 300 --max-control 500");
+  return test::fittedModel("head.off", "tribspline", test::kSmallFit);
 }
 
 double triangleArea(const structure::PolygonSoup& soup, std::size_t f) {
@@ -96,8 +96,7 @@ TEST_CASE("export_surface: a fill lying on its scan is told apart by the way it 
           "[spline]") {
   // plane.off is a flat square: the patch that closes its boundary lies on the scan itself, so
   // the closed surface is a flat pillow and both sides are at distance 0 from scan and fill.
-  const spline::SplineModel& model =
-      test::fittedModel("plane.off", "tspline", "--control 300 --max-control 500");
+  const spline::SplineModel& model = test::fittedModel("plane.off", "tspline", test::kSmallFit);
   REQUIRE(std::count(model.surfaceFaceFilled.begin(), model.surfaceFaceFilled.end(), char(1)) > 0);
   spline::ExportOptions options;
   options.resolution = 4;
@@ -132,8 +131,7 @@ TEST_CASE("export_surface: the resolution chosen from a tolerance meets it and i
           "[spline]") {
   // A T-spline: its estimate is close (a triangular B-spline's second derivatives in chart units
   // make it far larger than the chord error).
-  const spline::SplineModel& model =
-      test::fittedModel("knot1.off", "tspline", "--control 300 --max-control 500");
+  const spline::SplineModel& model = test::fittedModel("knot1.off", "tspline", test::kSmallFit);
   spline::ExportOptions options;
   options.trimFills = false;
   int previous = 0;

@@ -29,7 +29,7 @@ namespace {
 // kind: 3 holes filled for the fit, 4 cones (T-spline: holes around them, collapsed edges, and
 // T-junctions from adaptive refinement).
 const spline::SplineModel& headModel(const std::string& kind) {
-  return test::fittedModel("head.off", kind, "--control 300 --max-control 500");
+  return test::fittedModel("head.off", kind, test::kSmallFit);
 }
 
 // A T-spline on the surface of a cube (8 extraordinary vertices: holes) with random weights.

@@ -447,7 +447,8 @@ TEST_CASE("dms_spline: repeated and collinear knots", "[spline]") {
                                (space.evaluate(control, t, x, 0).position - polynomial(x)).norm());
   }
   INFO("partition of unity error " << worst << ", polynomial error " << worstPolynomial);
-  CHECK(worst <= 1e-13);
+  // Nearly singular knot triangles: 3.6e-13 with clang's code, 1e-13 with GCC's.
+  CHECK(worst <= 1e-12);
   CHECK(worstPolynomial <= 1e-12 * polynomial.coefficients.cwiseAbs().sum());
 }
 

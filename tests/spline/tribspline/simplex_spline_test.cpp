@@ -262,7 +262,9 @@ TEST_CASE("simplex_spline: is affine invariant", "[spline]") {
         const double value = simplexSpline<double>(x, knots);
         const double image =
             simplexSpline<double>(Vector2d(a * x + b), mapped) * std::abs(a.determinant());
-        CHECK(std::abs(image - value) <= 1e-13 * std::max(value, 1.0));
+        // The map's own rounding (condition numbers up to about 100) on top of the spline's.
+        INFO("value " << value << ", image " << image);
+        CHECK(std::abs(image - value) <= 1e-12 * std::max(value, 1.0));
       }
     }
 }

@@ -154,8 +154,9 @@ TEST_CASE("tri_bspline_fit_space: a partition of unity with derivatives that mat
         CHECK((plus.position - p.position - step).norm() <= 1e-15);
         const auto above = termsAt(space, plus), below = termsAt(space, minus);
         for (const auto& [index, term] : terms) {
-          const auto get = [&](const std::map<int, FitBasisTerm>& at) {
-            const auto found = at.find(index);
+          // By value: C++17 lambdas cannot capture a structured binding (clang refuses).
+          const auto get = [&, key = index](const std::map<int, FitBasisTerm>& at) {
+            const auto found = at.find(key);
             return found == at.end() ? FitBasisTerm{} : found->second;
           };
           const FitBasisTerm a = get(above), b = get(below);
