@@ -70,7 +70,11 @@ Json roundsJson(const spline::FitResult& fit, spline::FitKind kind) {
   for (const auto& r : fit.rounds) {
     Json round{
         {"control_points", r.controlPoints}, {"rms_error", r.rmsError}, {"max_error", r.maxError}};
-    if (kind == spline::FitKind::TSpline) round["refined_faces"] = r.refinedFaces;
+    if (kind == spline::FitKind::TSpline) {
+      round["refined_faces"] = r.refinedFaces;
+      round["folds"] = r.folds;
+      round["kept"] = r.kept;
+    }
     if (kind != spline::FitKind::Subd) round["seconds"] = r.seconds;
     list.push_back(round);
   }

@@ -56,6 +56,8 @@ py::dict fitReport(const spline::FitResult& result, const spline::FitOptions& op
     entry["rms_error"] = round.rmsError;
     entry["max_error"] = round.maxError;
     entry["refined_faces"] = round.refinedFaces;
+    entry["folds"] = round.folds;
+    entry["kept"] = round.kept;
     entry["seconds"] = round.seconds;
     rounds.append(entry);
   }

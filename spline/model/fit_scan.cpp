@@ -92,10 +92,12 @@ TSplineSurfaceCheck checkAgainstScan(SplineModel model, const TMesh& mesh,
   const SurfaceQuality quality = measureQuality(model, surface, fit.controlPoints, &scan, measure);
   const SurfaceDistances& d = quality.distances;
   TSplineSurfaceCheck check;
-  check.accepted = std::max(d.scanToSurface.rms, d.surfaceToScan.rms) <= options.tolerance &&
-                   std::max(d.scanToSurface.max, d.surfaceToScan.max) <=
-                       options.maxErrorFactor * options.tolerance &&
-                   quality.folds.total() == 0;
+  check.distancesWithin =
+      std::max(d.scanToSurface.rms, d.surfaceToScan.rms) <= options.tolerance &&
+      std::max(d.scanToSurface.max, d.surfaceToScan.max) <=
+          options.maxErrorFactor * options.tolerance;
+  check.accepted = check.distancesWithin && quality.folds.total() == 0;
+  check.foldCount = quality.folds.total();
   std::vector<FitBasisTerm> terms;
   const auto surfacePoint = [&](const FacePoint& p, Eigen::Vector3d& normal) {
     surface.fitSpace().basisAt(p, terms, 1);
@@ -307,9 +309,11 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
     setup.model.tmesh = std::move(adaptive.mesh);
     fit = std::move(adaptive.fit);
     reached = adaptive.reachedTolerance;
-    for (const auto& r : adaptive.rounds)
-      result.rounds.push_back(
-          {r.controlPoints, r.rmsError / diagonal, r.maxError / diagonal, r.splitFaces, r.seconds});
+    for (std::size_t k = 0; k < adaptive.rounds.size(); ++k) {
+      const TSplineFitRound& r = adaptive.rounds[k];
+      result.rounds.push_back({r.controlPoints, r.rmsError / diagonal, r.maxError / diagonal,
+                               r.splitFaces, r.folds, int(k) == adaptive.keptRound, r.seconds});
+    }
     // Every surface vertex (fill patches' too) on the refined T-mesh: sample k < V is vertex k.
     for (std::size_t v = 0; v < setup.model.surfaceVertexTMeshPoints.size(); ++v)
       setup.model.surfaceVertexTMeshPoints[v] = adaptive.parameters[v];
@@ -323,8 +327,8 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
     for (std::size_t v = 0; v < setup.model.surfaceVertexTMeshPoints.size(); ++v)
       setup.model.surfaceVertexTMeshPoints[v] = {fit.parameters[v].face,
                                                  fit.parameters[v].position};
-    result.rounds.push_back(
-        {int(fit.controlPoints.rows()), fit.rmsError / diagonal, fit.maxError / diagonal, 0, 0.0});
+    result.rounds.push_back({int(fit.controlPoints.rows()), fit.rmsError / diagonal,
+                             fit.maxError / diagonal, 0, 0, true, 0.0});
   } else {
     // Adaptive refinement of the domain: the next domain is coarsened with more vertices where
     // the samples are far from the surface (refinementDensity), with the whole budget.
@@ -340,10 +344,11 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
       fit = fitSurface(fitSpace, parameters, setup.targets, fitOptions, roundProgress);
       reached = withinTolerance(fit.rmsError, fit.maxError);
       result.rounds.push_back({int(fit.controlPoints.rows()), fit.rmsError / diagonal,
-                               fit.maxError / diagonal, 0, roundClock.lap()});
+                               fit.maxError / diagonal, 0, 0, false, roundClock.lap()});
       const bool last = reached || round >= options.maxRefinements ||
                         (round > 0 && build.control >= options.maxControl);
       if (last) {
+        result.rounds.back().kept = true;
         for (std::size_t v = 0; v < setup.model.surfaceVertexLocations.size(); ++v)
           setup.model.surfaceVertexLocations[v] = toDomainPoint(space, fit.parameters[v]);
         break;

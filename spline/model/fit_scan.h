@@ -46,8 +46,11 @@ struct FitRound {
   int controlPoints = 0;
   /// RMS and maximum distance of the samples to the surface, relative to the diagonal.
   double rmsError = 0.0, maxError = 0.0;
-  /// T-splines: faces split after this round.
+  /// T-splines: faces split after this round, the folds measured against the scan, and whether
+  /// this round's fit is the one returned (the one with the fewest folds, the latest of equals).
   int refinedFaces = 0;
+  int folds = 0;
+  bool kept = false;
   double seconds = 0.0;
 };
 

@@ -27,6 +27,14 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
   fitOptions.faceFairing = Eigen::VectorXd::Ones(mesh.numFaces());
   const Eigen::VectorXd unitWeights;
   int previousFolds = std::numeric_limits<int>::max();
+  // The best round so far (see the header).
+  struct Kept {
+    TMesh mesh;
+    SurfaceFitResult fit;
+    std::vector<FacePoint> parameters;
+    bool reachedTolerance = false, within = false;
+    int folds = 0, round = -1;
+  } kept;
   for (int round = 0;; ++round) {
     const auto start = std::chrono::steady_clock::now();
     const TSplineSpace space(result.mesh);
@@ -49,9 +57,14 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
       roundProgress("measuring the surface", 1.0);
       check = options.measure(result.mesh, result.fit);
     }
-    result.reachedTolerance = result.fit.rmsError <= options.tolerance &&
-                              result.fit.maxError <= options.maxErrorFactor * options.tolerance &&
-                              check.accepted;
+    const bool samplesWithin = result.fit.rmsError <= options.tolerance &&
+                               result.fit.maxError <= options.maxErrorFactor * options.tolerance;
+    result.reachedTolerance = samplesWithin && check.accepted;
+    summary.folds = check.foldCount;
+    const bool within = samplesWithin && check.distancesWithin;
+    if (!kept.within || (within && check.foldCount <= kept.folds))
+      kept = {result.mesh, result.fit, current, result.reachedTolerance, within, check.foldCount,
+              round};
     const auto finish = [&] {
       summary.seconds =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -92,8 +105,6 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
     // the measurement is off, only the faces of its stray points, not every face holding a
     // sample above the tolerance.
     const double maxError = *std::max_element(faceError.begin(), faceError.end());
-    const bool samplesWithin = result.fit.rmsError <= options.tolerance &&
-                               result.fit.maxError <= options.maxErrorFactor * options.tolerance;
     const double threshold =
         maxError > options.maxErrorFactor * options.tolerance
             ? std::max(options.tolerance,
@@ -114,8 +125,8 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
     }
     // Cap regions at cones are split whole or not at all (no T-junction may enter them): the
     // longest run of candidates, worst first, whose faces with their whole regions fit the budget.
-    const auto closure = [&](std::size_t count) {
-      return withWholeCapRegions(result.mesh, {candidates.begin(), candidates.begin() + count});
+    const auto closure = [&](std::size_t length) {
+      return withWholeCapRegions(result.mesh, {candidates.begin(), candidates.begin() + length});
     };
     std::size_t fitting = 0, over = candidates.size() + 1;
     while (over - fitting > 1) {
@@ -152,7 +163,12 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
           .setConstant(fitOptions.faceFairing[f]);
     }
   }
-  result.parameters.assign(current.begin(), current.begin() + std::ptrdiff_t(parameters.size()));
+  result.keptRound = kept.round;
+  result.mesh = std::move(kept.mesh);
+  result.fit = std::move(kept.fit);
+  result.reachedTolerance = kept.reachedTolerance;
+  result.parameters.assign(kept.parameters.begin(),
+                           kept.parameters.begin() + std::ptrdiff_t(parameters.size()));
   return result;
 }
 

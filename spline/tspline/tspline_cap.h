@@ -27,6 +27,9 @@
 // same tangent plane at v and, along the sector edges, a cross-derivative mismatch of O(h^2)
 // (E'_k - E_k) against derivatives of O(h): normals jump by O(h) there; across the outer sides of
 // F_k the patch is C1 (b_10 sits in the column next to the corner, so C2 does not hold there).
+// Valence 2 also moves b_20 and b_02, which sit next to the outer sides: there the normals jump by
+// O(h) too, near the sector edges. The constant is large where a valence-2 cone sits on a sharp
+// tip: the two folds left on three_peaks' fit lie on a valence-2 cap's sector edges.
 #include <array>
 #include <string>
 #include <vector>

@@ -1,5 +1,6 @@
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 #include "mspline/spline/model/fit_scan.h"
@@ -38,7 +39,19 @@ void checkFit(const spline::FitResult& fit, const structure::TriMesh& scan,
   CHECK(fit.withinBudget == (model.controlPoints.rows() <= options.maxControl));
   CHECK(fit.warnings.size() == std::size_t(!fit.reachedTolerance) + std::size_t(!fit.withinBudget));
   REQUIRE(!fit.rounds.empty());
-  CHECK(fit.rounds.back().controlPoints == model.controlPoints.rows());
+  // One round's fit is the model: a T-spline's best round (the measurement in the loop is the
+  // final one's), otherwise the last.
+  const auto kept = std::find_if(fit.rounds.begin(), fit.rounds.end(),
+                                 [](const spline::FitRound& r) { return r.kept; });
+  REQUIRE(kept != fit.rounds.end());
+  CHECK(std::count_if(fit.rounds.begin(), fit.rounds.end(),
+                      [](const spline::FitRound& r) { return r.kept; }) == 1);
+  CHECK(kept->controlPoints == model.controlPoints.rows());
+  if (options.kind == spline::FitKind::TSpline) {
+    CHECK(kept->folds == fit.quality.folds.total());
+  } else {
+    CHECK(kept == fit.rounds.end() - 1);
+  }
   CHECK(fit.flatten.converged);
 }
 

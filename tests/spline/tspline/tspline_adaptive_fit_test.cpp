@@ -174,6 +174,58 @@ TEST_CASE("tspline_adaptive_fit: a fold stiffens the fairing there instead of re
   CHECK(lambdas[1] == Approx(lambdas[0]).epsilon(1e-2));
 }
 
+TEST_CASE("tspline_adaptive_fit: of the rounds within the tolerance, the one that folds least is "
+          "returned",
+          "[spline]") {
+  // Every measurement reports a stray point (each round refines a face and takes a sample) and
+  // folds 4, 1, 0. When the third round's distances are out of tolerance, the second round (the
+  // fewest folds of those within) is returned with its T-mesh, fit and parameters; when no
+  // round is within, the last.
+  const int n = 12;
+  const TorusSamples t = torusSamples(n, 12);
+  const std::vector<int> folds{4, 1, 0};
+  for (const bool anyWithin : {true, false}) {
+    spline::TSplineAdaptiveFitOptions options;
+    options.tolerance = 4e-3;
+    options.maxRefinements = 2;
+    std::vector<int> facesMeasured;
+    options.measure = [&](const spline::TMesh& mesh, const spline::SurfaceFitResult&) {
+      const int round = int(facesMeasured.size());
+      facesMeasured.push_back(mesh.numFaces());
+      spline::TSplineSurfaceCheck check;
+      check.strays.push_back({(2 + 5 * round) * n + 3, Eigen::Vector2d(0.5, 0.5)});
+      // 0.01 off the torus: beyond the tolerance, within the maximum wanted.
+      const Eigen::Vector3d onTorus = torusAt(3.5, 2.5 + 5 * round, n);
+      const Eigen::Vector3d tubeCentre =
+          4.0 * Eigen::Vector3d(onTorus.x(), onTorus.y(), 0.0).normalized();
+      check.strayTargets = (onTorus + 0.01 * (onTorus - tubeCentre)).transpose();
+      check.foldCount = folds[std::size_t(round)];
+      check.distancesWithin = anyWithin && round < 2;
+      check.accepted = false;
+      return check;
+    };
+    const spline::TSplineAdaptiveFitResult result =
+        spline::fitTSplineAdaptively(t.mesh, t.parameters, t.targets, options);
+    REQUIRE(result.rounds.size() == 3);
+    REQUIRE(facesMeasured.size() == 3);
+    CHECK(facesMeasured[0] < facesMeasured[1]);
+    CHECK(facesMeasured[1] < facesMeasured[2]);
+    for (std::size_t k = 0; k < 3; ++k) {
+      CHECK(result.rounds[k].rmsError <= options.tolerance);
+      CHECK(result.rounds[k].maxError <= options.maxErrorFactor * options.tolerance);
+      CHECK(result.rounds[k].folds == folds[k]);
+    }
+    const int kept = anyWithin ? 1 : 2;
+    CHECK(result.keptRound == kept);
+    CHECK_FALSE(result.reachedTolerance);
+    CHECK(result.mesh.numFaces() == facesMeasured[std::size_t(kept)]);
+    CHECK(result.fit.rmsError == result.rounds[std::size_t(kept)].rmsError);
+    CHECK(result.fit.controlPoints.rows() == result.rounds[std::size_t(kept)].controlPoints);
+    REQUIRE(result.parameters.size() == t.parameters.size());
+    for (const auto& p : result.parameters) CHECK(p.face < result.mesh.numFaces());
+  }
+}
+
 TEST_CASE("tspline_adaptive_fit: cap regions at extraordinary vertices are split whole",
           "[spline]") {
   // A cube's T-mesh (8 corners of valence 3) fitted to a sphere; the measurement reports a stray
