@@ -57,6 +57,8 @@ Json infoJson(const std::string& path, const io::LoadedMesh& loaded) {
     info["bbox_diagonal"] = stats.bboxDiagonal;
     info["min_angle_degrees"] = stats.minAngleDegrees;
     info["median_angle_degrees"] = stats.medianAngleDegrees;
+    info["max_dihedral_degrees"] = stats.maxDihedralDegrees;
+    info["folded_edges"] = stats.foldedEdges;
   }
   info["problems"] = problemsJson(validation);
   info["warnings"] = loaded.warnings;
@@ -83,7 +85,8 @@ void printText(const Json& info) {
   };
   for (const char* key :
        {"file", "vertices", "edges", "faces", "components", "boundaries", "euler", "genus",
-        "closed", "orientable", "bbox_diagonal", "min_angle_degrees", "median_angle_degrees"}) {
+        "closed", "orientable", "bbox_diagonal", "min_angle_degrees", "median_angle_degrees",
+        "max_dihedral_degrees", "folded_edges"}) {
     if (info.contains(key)) line(key, info[key]);
   }
   if (info["problems"].empty()) {

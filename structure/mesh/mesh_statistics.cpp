@@ -39,6 +39,7 @@ MeshStatistics meshStatistics(const TriMesh& mesh) {
 
   std::vector<double> angles;
   angles.reserve(3 * mesh.n_faces());
+  std::vector<OpenMesh::Vec3d> unitNormals(mesh.n_faces(), OpenMesh::Vec3d(0, 0, 0));
   constexpr double kDegrees = 180.0 / kPi;
   for (const auto f : mesh.faces()) {
     const auto h0 = mesh.halfedge_handle(f);
@@ -53,6 +54,7 @@ MeshStatistics meshStatistics(const TriMesh& mesh) {
     const OpenMesh::Vec3d normal = OpenMesh::cross((p[1] - p[0]) * scale, (p[2] - p[0]) * scale);
     const double twiceArea = normal.norm();
     stats.area += 0.5 * twiceArea / scale / scale;
+    if (twiceArea > 0.0) unitNormals[std::size_t(f.idx())] = normal / twiceArea;
     for (int k = 0; k < 3; ++k) {
       const OpenMesh::Vec3d a = (p[(k + 1) % 3] - p[k]) * scale,
                             b = (p[(k + 2) % 3] - p[k]) * scale;
@@ -69,6 +71,16 @@ MeshStatistics meshStatistics(const TriMesh& mesh) {
     if (angles.size() % 2 == 0)  // even count: average the two middle values
       stats.medianAngleDegrees =
           0.5 * (stats.medianAngleDegrees + *std::max_element(angles.begin(), middle));
+  }
+
+  for (const auto e : mesh.edges()) {
+    if (mesh.is_boundary(e)) continue;
+    const auto& a = unitNormals[std::size_t(mesh.face_handle(mesh.halfedge_handle(e, 0)).idx())];
+    const auto& b = unitNormals[std::size_t(mesh.face_handle(mesh.halfedge_handle(e, 1)).idx())];
+    if (a.sqrnorm() == 0.0 || b.sqrnorm() == 0.0) continue;
+    const double angle = std::atan2(OpenMesh::cross(a, b).norm(), OpenMesh::dot(a, b)) * kDegrees;
+    stats.maxDihedralDegrees = std::max(stats.maxDihedralDegrees, angle);
+    stats.foldedEdges += angle > 90.0 ? 1 : 0;
   }
   return stats;
 }

@@ -17,6 +17,12 @@ struct MeshStatistics {
   double maxEdgeLength = 0;
   /// Total surface area.
   double area = 0;
+  /// Largest angle between the normals of two triangles sharing an edge (degrees; degenerate
+  /// triangles left out), and the edges where it exceeds 90 degrees: creases that a smooth surface
+  /// following the mesh closely folds at (a fitted surface's folds are judged against this mesh's
+  /// normals, spline/quality/surface_quality.h).
+  double maxDihedralDegrees = 0;
+  int foldedEdges = 0;
 };
 
 MeshStatistics meshStatistics(const TriMesh& mesh);

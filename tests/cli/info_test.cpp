@@ -59,10 +59,14 @@ TEST_CASE("info: json has the documented keys", "[cli]") {
   auto info = infoJson("bunny00.off");
   for (const char* key :
        {"vertices", "edges", "faces", "components", "boundaries", "euler", "genus", "closed",
-        "orientable", "bbox_diagonal", "min_angle_degrees", "median_angle_degrees", "problems"})
+        "orientable", "bbox_diagonal", "min_angle_degrees", "median_angle_degrees",
+        "max_dihedral_degrees", "folded_edges", "problems"})
     CHECK(info.contains(key));
   CHECK(info["vertices"] == 37706);
   CHECK(info["faces"] == 75408);
+  // A scan: no neighbouring triangles folded against each other.
+  CHECK(info["folded_edges"] == 0);
+  CHECK(info["max_dihedral_degrees"].get<double>() < 90.0);
 }
 
 TEST_CASE("info: figures an invalid mesh cannot have are unknown, with the defect and an error",

@@ -81,3 +81,29 @@ TEST_CASE("mesh_statistics: collinear triangle has zero corners and zero area", 
   CHECK(stats.minEdgeLength == Approx(1.0));
   CHECK(stats.maxEdgeLength == Approx(3.0));
 }
+
+TEST_CASE("mesh_statistics: dihedral angles and folded edges", "[structure]") {
+  // Two triangles hinged on the x-axis: the second one's normal turned by `turn` degrees.
+  const auto hinge = [](double turn) {
+    structure::TriMesh mesh;
+    using P = structure::TriMesh::Point;
+    const double t = turn * kPi / 180.0;
+    const auto a = mesh.add_vertex(P(0, 0, 0)), b = mesh.add_vertex(P(1, 0, 0)),
+               c = mesh.add_vertex(P(0.5, 1, 0)),
+               d = mesh.add_vertex(P(0.5, -std::cos(t), std::sin(t)));
+    mesh.add_face(a, b, c);
+    mesh.add_face(b, a, d);
+    return structure::meshStatistics(mesh);
+  };
+  for (const double turn : {0.0, 60.0, 89.0, 91.0, 150.0}) {
+    INFO("turned by " << turn);
+    const auto stats = hinge(turn);
+    CHECK(stats.maxDihedralDegrees == Approx(turn).margin(1e-9));
+    CHECK(stats.foldedEdges == (turn > 90.0 ? 1 : 0));
+  }
+  // The icosahedron's dihedral angle is 138.19 degrees: its normals turn by 41.81.
+  const auto ico = structure::meshStatistics(test::icosphere(0));
+  CHECK(ico.maxDihedralDegrees == Approx(180.0 - std::acos(-std::sqrt(5.0) / 3.0) * 180.0 / kPi));
+  CHECK(ico.foldedEdges == 0);
+  CHECK(structure::meshStatistics(test::gridDisk(4)).maxDihedralDegrees == Approx(0.0).margin(1e-12));
+}
