@@ -118,11 +118,14 @@ TSplineSurfaceCheck checkAgainstScan(SplineModel model, const TMesh& mesh,
     };
     return Eigen::Vector3d((corner(1) - corner(0)).cross(corner(2) - corner(0)).normalized());
   };
-  // Only the folds between adjacent triangles (details.folds lists them first): they are the
-  // surface's own, while a triangle against the scan's normal can be the scan's doing (3torus's
-  // subd fit has 8,648) and stiffening there pulled the surface 7% of the diagonal off.
+  // Stiffened: only the folds between adjacent triangles (details.folds lists them first): they
+  // are the surface's own, while a triangle against the scan's normal can be the scan's doing
+  // (3torus's subd fit has 8,648) and stiffening there pulled the surface 7% of the diagonal off.
+  // Those facing away are split only as the loop's last resort.
   check.folds.assign(quality.details.folds.begin(),
                      quality.details.folds.begin() + quality.folds.adjacentPairs);
+  check.facingAway.assign(quality.details.folds.begin() + quality.folds.adjacentPairs,
+                          quality.details.folds.end());
   // Strays beyond half the maximum wanted; beyond the tolerance when the RMS is off (a
   // polyhedron's edges rounded over too wide a band).
   const bool rmsOff = std::max(d.scanToSurface.rms, d.surfaceToScan.rms) > options.tolerance;

@@ -125,16 +125,18 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
     }
     // Cap regions at cones are split whole or not at all (no T-junction may enter them): the
     // longest run of candidates, worst first, whose faces with their whole regions fit the budget.
-    const auto closure = [&](std::size_t length) {
-      return withWholeCapRegions(result.mesh, {candidates.begin(), candidates.begin() + length});
+    const auto withinBudget = [&] {
+      const auto closure = [&](std::size_t length) {
+        return withWholeCapRegions(result.mesh, {candidates.begin(), candidates.begin() + length});
+      };
+      std::size_t fitting = 0, over = candidates.size() + 1;
+      while (over - fitting > 1) {
+        const std::size_t middle = (fitting + over) / 2;
+        (closure(middle).size() <= budget ? fitting : over) = middle;
+      }
+      return closure(fitting);
     };
-    std::size_t fitting = 0, over = candidates.size() + 1;
-    while (over - fitting > 1) {
-      const std::size_t middle = (fitting + over) / 2;
-      (closure(middle).size() <= budget ? fitting : over) = middle;
-    }
-    const std::vector<int> marked = closure(fitting);
-    summary.splitFaces = int(marked.size());
+    std::vector<int> marked = withinBudget();
     // The stray points join the samples (unit weight: they are points of the scan).
     const auto strays = Eigen::Index(check.strays.size());
     summary.addedSamples = int(strays);
@@ -148,11 +150,24 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
         fitOptions.sampleWeights.tail(samples.rows() - old).setOnes();
       }
     }
-    finish();
     // Another round when it has something to act on: refined faces, new samples, or folds that
     // the last stiffening reduced.
     const bool unfolding = summary.stiffenedFaces > 0 && folds < previousFolds;
     previousFolds = folds;
+    // Nothing of that, but folds on a surface within the tolerance: the faces where they are are
+    // split (cap regions whole), a last resort that costs nothing but time, since a round that
+    // folds more is not the one kept.
+    if (marked.empty() && strays == 0 && !unfolding && within && check.foldCount > 0) {
+      candidates.clear();
+      for (const auto& p : check.folds) candidates.push_back(p.face);
+      for (const auto& p : check.facingAway) candidates.push_back(p.face);
+      std::sort(candidates.begin(), candidates.end());
+      candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+      marked = withinBudget();
+      summary.foldSplits = !marked.empty();
+    }
+    summary.splitFaces = int(marked.size());
+    finish();
     if (marked.empty() && summary.addedSamples == 0 && !unfolding) break;
     for (const int f : marked) {
       const Eigen::Index first = result.mesh.numFaces();

@@ -9,8 +9,11 @@
 // loop also acts on it: points of the surface that stray from the scan become samples (their
 // closest scan points) and their faces are refined like the samples'; faces where the surface
 // folds get a stiffer fairing term instead (more freedom would not unfold them); and the
-// tolerance is reached only when the measurement accepts the surface too. A cone's cap region
-// (tspline_cap.h) is split whole or not at all, so that no T-junction enters it.
+// tolerance is reached only when the measurement accepts the surface too. When a round leaves
+// nothing of this to act on but the surface, within the tolerance, still folds (adjacent
+// triangles, or triangles facing away from the scan), the faces where it folds are split as a
+// last resort. A cone's cap region (tspline_cap.h) is split whole or not at all, so that no
+// T-junction enters it.
 //
 // The loop returns its best round, not always its last: of the rounds whose samples and measured
 // distances are within the tolerance, the one with the fewest folds (the latest of equals); the
@@ -38,8 +41,10 @@ struct TSplineSurfaceCheck {
   /// The distance beyond which surface points are strays (absolute units); their faces are split
   /// beyond it too.
   double strayDistance = 0.0;
-  /// Parameters where the surface folds (the ones to act on).
+  /// Parameters where adjacent triangles of the surface fold (stiffened), and of triangles that
+  /// face away from the scan.
   std::vector<FacePoint> folds;
+  std::vector<FacePoint> facingAway;
   /// Every fold the measurement counted (also those not in `folds`).
   int foldCount = 0;
   /// The measured distances are within the tolerance both ways (folds aside).
@@ -83,8 +88,10 @@ struct TSplineFitRound {
   /// was raised for folds after this round.
   int addedSamples = 0;
   int stiffenedFaces = 0;
-  /// With a measurement: the folds it counted.
+  /// With a measurement: the folds it counted, and whether the faces split after this round were
+  /// those where it folded (the last resort, see above).
   int folds = 0;
+  bool foldSplits = false;
   double seconds = 0.0;
 };
 

@@ -29,7 +29,8 @@
 // F_k the patch is C1 (b_10 sits in the column next to the corner, so C2 does not hold there).
 // Valence 2 also moves b_20 and b_02, which sit next to the outer sides: there the normals jump by
 // O(h) too, near the sector edges. The constant is large where a valence-2 cone sits on a sharp
-// tip: the two folds left on three_peaks' fit lie on a valence-2 cap's sector edges.
+// tip: three_peaks' fit folds on a valence-2 cap's sector edges until the fit loop splits the
+// region (tspline_adaptive_fit.h).
 #include <array>
 #include <string>
 #include <vector>

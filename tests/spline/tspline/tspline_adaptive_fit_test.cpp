@@ -226,6 +226,46 @@ TEST_CASE("tspline_adaptive_fit: of the rounds within the tolerance, the one tha
   }
 }
 
+TEST_CASE("tspline_adaptive_fit: folds nothing else acts on are split as a last resort",
+          "[spline]") {
+  // The first measurement reports one triangle facing away from the scan on face (4, 3) and
+  // nothing else to act on (no strays, no adjacent folds): within the tolerance, that face is
+  // split and the next round is measured without folds. With the distances out of tolerance,
+  // nothing is split (a round that folds more could then be the one returned) and the loop ends.
+  const int n = 12;
+  const TorusSamples t = torusSamples(n, 12);
+  const int face = 3 * n + 4;
+  for (const bool within : {true, false}) {
+    spline::TSplineAdaptiveFitOptions options;
+    options.tolerance = 4e-3;
+    int calls = 0;
+    options.measure = [&](const spline::TMesh&, const spline::SurfaceFitResult&) {
+      spline::TSplineSurfaceCheck check;
+      if (calls++ == 0) {
+        check.facingAway.push_back({face, Eigen::Vector2d(0.5, 0.5)});
+        check.foldCount = 1;
+        check.distancesWithin = within;
+        check.accepted = false;
+      }
+      return check;
+    };
+    const spline::TSplineAdaptiveFitResult result =
+        spline::fitTSplineAdaptively(t.mesh, t.parameters, t.targets, options);
+    INFO("distances within: " << within);
+    REQUIRE(result.rounds.size() == (within ? 2u : 1u));
+    CHECK(result.rounds[0].rmsError <= options.tolerance);
+    CHECK(result.rounds[0].folds == 1);
+    CHECK(result.rounds[0].foldSplits == within);
+    CHECK(result.rounds[0].stiffenedFaces == 0);
+    CHECK(result.reachedTolerance == within);
+    if (!within) continue;
+    CHECK(result.rounds[0].splitFaces == 1);
+    CHECK(result.keptRound == 1);
+    CHECK(result.mesh.numFaces() == n * n + 3);
+    CHECK(result.mesh.faces[std::size_t(face)].width == Approx(0.5));
+  }
+}
+
 TEST_CASE("tspline_adaptive_fit: cap regions at extraordinary vertices are split whole",
           "[spline]") {
   // A cube's T-mesh (8 corners of valence 3) fitted to a sphere; the measurement reports a stray
