@@ -74,6 +74,11 @@ Json roundsJson(const spline::FitResult& fit, spline::FitKind kind) {
       round["refined_faces"] = r.refinedFaces;
       round["folds"] = r.folds;
       round["kept"] = r.kept;
+      if (r.repairOf >= 0) {
+        round["repair_of"] = r.repairOf;
+        round["remedy"] = r.remedy;
+        round["parameters_held"] = r.parametersHeld;
+      }
     }
     if (kind != spline::FitKind::Subd) round["seconds"] = r.seconds;
     list.push_back(round);

@@ -58,6 +58,11 @@ py::dict fitReport(const spline::FitResult& result, const spline::FitOptions& op
     entry["refined_faces"] = round.refinedFaces;
     entry["folds"] = round.folds;
     entry["kept"] = round.kept;
+    if (round.repairOf >= 0) {
+      entry["repair_of"] = round.repairOf;
+      entry["remedy"] = round.remedy;
+      entry["parameters_held"] = round.parametersHeld;
+    }
     entry["seconds"] = round.seconds;
     rounds.append(entry);
   }

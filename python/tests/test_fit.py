@@ -36,8 +36,16 @@ def test_the_fit_report_tells_how_the_fit_went(fitted):
                 "max_error_surface_to_scan"):
         assert 0 < report[key] < 0.1
     assert report["rms_error"] <= report["max_error"]
-    assert 1 <= len(report["refinement"]) <= TSPLINE_FIT_ARGUMENTS["max_refinements"] + 1
-    assert report["refinement"][-1]["control_points"] == report["control_points"]
+    refinement = [r for r in report["refinement"] if "repair_of" not in r]
+    assert 1 <= len(refinement) <= TSPLINE_FIT_ARGUMENTS["max_refinements"] + 1
+    assert report["refinement"][:len(refinement)] == refinement
+    for r in report["refinement"][len(refinement):]:
+        assert r["remedy"] in ("split", "stiffen", "split around", "stiffen around")
+        assert 0 <= r["repair_of"] < len(report["refinement"])
+    kept = [r for r in report["refinement"] if r["kept"]]
+    assert len(kept) == 1
+    assert kept[0]["control_points"] == report["control_points"]
+    assert kept[0]["folds"] == report["quality"]["folds"]["total"]
 
 
 def test_the_fit_report_has_the_figures_of_mspline_fit_json(fitted, eight_msp):

@@ -118,10 +118,11 @@ TSplineSurfaceCheck checkAgainstScan(SplineModel model, const TMesh& mesh,
     };
     return Eigen::Vector3d((corner(1) - corner(0)).cross(corner(2) - corner(0)).normalized());
   };
-  // Stiffened: only the folds between adjacent triangles (details.folds lists them first): they
-  // are the surface's own, while a triangle against the scan's normal can be the scan's doing
-  // (3torus's subd fit has 8,648) and stiffening there pulled the surface 7% of the diagonal off.
-  // Those facing away are split only as the loop's last resort.
+  // Stiffened in the refinement rounds: only the folds between adjacent triangles (details.folds
+  // lists them first): they are the surface's own, while a triangle against the scan's normal can
+  // be the scan's doing (3torus's subd fit has 8,648) and stiffening there pulled the surface 7%
+  // of the diagonal off. Those facing away are remedied only by the repair, which keeps a remedy
+  // only where it helps.
   check.folds.assign(quality.details.folds.begin(),
                      quality.details.folds.begin() + quality.folds.adjacentPairs);
   check.facingAway.assign(quality.details.folds.begin() + quality.folds.adjacentPairs,
@@ -314,8 +315,18 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
     reached = adaptive.reachedTolerance;
     for (std::size_t k = 0; k < adaptive.rounds.size(); ++k) {
       const TSplineFitRound& r = adaptive.rounds[k];
-      result.rounds.push_back({r.controlPoints, r.rmsError / diagonal, r.maxError / diagonal,
-                               r.splitFaces, r.folds, int(k) == adaptive.keptRound, r.seconds});
+      FitRound round;
+      round.controlPoints = r.controlPoints;
+      round.rmsError = r.rmsError / diagonal;
+      round.maxError = r.maxError / diagonal;
+      round.refinedFaces = r.repairOf >= 0 ? r.remediedFaces : r.splitFaces;
+      round.folds = r.folds;
+      round.kept = int(k) == adaptive.keptRound;
+      round.seconds = r.seconds;
+      round.repairOf = r.repairOf;
+      if (r.repairOf >= 0) round.remedy = foldRemedyName(r.remedy);
+      round.parametersHeld = r.parametersHeld;
+      result.rounds.push_back(round);
     }
     // Every surface vertex (fill patches' too) on the refined T-mesh: sample k < V is vertex k.
     for (std::size_t v = 0; v < setup.model.surfaceVertexTMeshPoints.size(); ++v)
@@ -330,8 +341,12 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
     for (std::size_t v = 0; v < setup.model.surfaceVertexTMeshPoints.size(); ++v)
       setup.model.surfaceVertexTMeshPoints[v] = {fit.parameters[v].face,
                                                  fit.parameters[v].position};
-    result.rounds.push_back({int(fit.controlPoints.rows()), fit.rmsError / diagonal,
-                             fit.maxError / diagonal, 0, 0, true, 0.0});
+    FitRound round;
+    round.controlPoints = int(fit.controlPoints.rows());
+    round.rmsError = fit.rmsError / diagonal;
+    round.maxError = fit.maxError / diagonal;
+    round.kept = true;
+    result.rounds.push_back(round);
   } else {
     // Adaptive refinement of the domain: the next domain is coarsened with more vertices where
     // the samples are far from the surface (refinementDensity), with the whole budget.
@@ -346,8 +361,12 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
       };
       fit = fitSurface(fitSpace, parameters, setup.targets, fitOptions, roundProgress);
       reached = withinTolerance(fit.rmsError, fit.maxError);
-      result.rounds.push_back({int(fit.controlPoints.rows()), fit.rmsError / diagonal,
-                               fit.maxError / diagonal, 0, 0, false, roundClock.lap()});
+      FitRound summary;
+      summary.controlPoints = int(fit.controlPoints.rows());
+      summary.rmsError = fit.rmsError / diagonal;
+      summary.maxError = fit.maxError / diagonal;
+      summary.seconds = roundClock.lap();
+      result.rounds.push_back(summary);
       const bool last = reached || round >= options.maxRefinements ||
                         (round > 0 && build.control >= options.maxControl);
       if (last) {

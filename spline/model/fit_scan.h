@@ -46,12 +46,18 @@ struct FitRound {
   int controlPoints = 0;
   /// RMS and maximum distance of the samples to the surface, relative to the diagonal.
   double rmsError = 0.0, maxError = 0.0;
-  /// T-splines: faces split after this round, the folds measured against the scan, and whether
-  /// this round's fit is the one returned (the one with the fewest folds, the latest of equals).
+  /// T-splines: faces split after this round (a repair: the faces its remedy split or stiffened),
+  /// the folds measured against the scan, and whether this round's fit is the one returned
+  /// (tspline_adaptive_fit.h: the best round, repaired).
   int refinedFaces = 0;
   int folds = 0;
   bool kept = false;
   double seconds = 0.0;
+  /// A repair's fit: the round it started from (-1 for a refinement round), its remedy ("split",
+  /// "stiffen", "split around", "stiffen around") and whether it held the samples' parameters.
+  int repairOf = -1;
+  std::string remedy;
+  bool parametersHeld = false;
 };
 
 /// What the flattening reported (Flattening's figures that fit reports).

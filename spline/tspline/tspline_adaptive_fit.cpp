@@ -4,12 +4,199 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <optional>
 
 #include "mspline/spline/tspline/tspline.h"
 #include "mspline/spline/tspline/tspline_fit_space.h"
 #include "mspline/spline/tspline/tspline_refine.h"
 
 namespace mspline::spline {
+namespace {
+
+// The fit space keeps a reference to its weights: unit weights, for the whole fit.
+const Eigen::VectorXd unitWeights;
+
+// What a fit starts from (T-mesh, samples, options) and what it gave.
+struct FitState {
+  TMesh mesh;
+  /// The samples' parameters and positions: the given ones, then the stray surface points the
+  /// measurement added.
+  std::vector<FacePoint> at;
+  Eigen::MatrixX3d samples;
+  SurfaceFitOptions fitOptions;
+  SurfaceFitResult fit;
+  TSplineSurfaceCheck check;
+  bool samplesWithin = false;
+  int round = -1;
+
+  bool within() const { return samplesWithin && check.distancesWithin; }
+  bool reachedTolerance() const { return samplesWithin && check.accepted; }
+};
+
+// Fits `state` and measures its surface; the round's summary (but for what follows the fit).
+TSplineFitRound fitAndMeasure(FitState& state, int round, const TSplineAdaptiveFitOptions& options,
+                              const FitProgress& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  const TSplineSpace space(state.mesh);
+  const TSplineFitSpace fitSpace(space, unitWeights);
+  const auto roundProgress = [&](const std::string& stage, double fraction) {
+    if (progress) progress("round " + std::to_string(round + 1) + ": " + stage, fraction);
+  };
+  state.fit = fitSurface(fitSpace, state.at, state.samples, state.fitOptions, roundProgress);
+  // The smoothing weight is relative to typical functions (surface_fit.h), so the one chosen on
+  // the first round holds for the refined ones.
+  state.fitOptions.smoothing = state.fit.smoothing;
+  state.at = state.fit.parameters;
+  state.round = round;
+  state.check = {};
+  if (options.measure) {
+    roundProgress("measuring the surface", 1.0);
+    state.check = options.measure(state.mesh, state.fit);
+  }
+  state.samplesWithin = state.fit.rmsError <= options.tolerance &&
+                        state.fit.maxError <= options.maxErrorFactor * options.tolerance;
+  TSplineFitRound summary;
+  summary.controlPoints = space.numBasis();
+  summary.faces = state.mesh.numFaces();
+  summary.rmsError = state.fit.rmsError;
+  summary.maxError = state.fit.maxError;
+  summary.folds = state.check.foldCount;
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return summary;
+}
+
+// The faces of `candidates` (worst first) to split: the longest run whose faces, with the whole
+// cap regions they touch (no T-junction may enter one), fit the control point budget (a split
+// adds about five vertices: one inside, four on sides).
+std::vector<int> splitWithinBudget(const FitState& state, const std::vector<int>& candidates,
+                                   const TSplineAdaptiveFitOptions& options) {
+  const std::size_t budget = std::size_t(
+      std::max(0, (options.maxControlPoints - int(state.fit.controlPoints.rows())) / 5));
+  const auto closure = [&](std::size_t length) {
+    return withWholeCapRegions(state.mesh, {candidates.begin(), candidates.begin() + length});
+  };
+  std::size_t fitting = 0, over = candidates.size() + 1;
+  while (over - fitting > 1) {
+    const std::size_t middle = (fitting + over) / 2;
+    (closure(middle).size() <= budget ? fitting : over) = middle;
+  }
+  return closure(fitting);
+}
+
+void split(FitState& state, const std::vector<int>& faces) {
+  for (const int f : faces) {
+    const Eigen::Index first = state.mesh.numFaces();
+    splitIntoFour(state.mesh, f, state.at);
+    // The new parts keep the face's fairing factor.
+    Eigen::VectorXd& fairing = state.fitOptions.faceFairing;
+    fairing.conservativeResize(state.mesh.numFaces());
+    fairing.tail(state.mesh.numFaces() - first).setConstant(fairing[f]);
+  }
+}
+
+// Multiplies the fairing factor of `faces` by options.foldFairing up to maxFoldFairing; the
+// number of faces whose factor grew.
+int stiffen(FitState& state, const std::vector<int>& faces,
+            const TSplineAdaptiveFitOptions& options) {
+  int stiffened = 0;
+  for (const int f : faces) {
+    double& factor = state.fitOptions.faceFairing[f];
+    const double raised = std::min(factor * options.foldFairing, options.maxFoldFairing);
+    stiffened += raised > factor;
+    factor = raised;
+  }
+  return stiffened;
+}
+
+// The faces holding `points`, each once.
+std::vector<int> facesOf(const std::vector<FacePoint>& points) {
+  std::vector<int> faces;
+  for (const auto& p : points) faces.push_back(p.face);
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  return faces;
+}
+
+// `faces` and every face sharing a vertex with one of them, in increasing order.
+std::vector<int> withNeighbours(const TMesh& mesh, const std::vector<int>& faces) {
+  std::vector<char> touched(std::size_t(mesh.numVertices), 0);
+  for (const int f : faces)
+    for (const int v : mesh.faces[std::size_t(f)].vertices) touched[std::size_t(v)] = 1;
+  std::vector<int> out;
+  for (int f = 0; f < mesh.numFaces(); ++f) {
+    const auto& corners = mesh.faces[std::size_t(f)].vertices;
+    if (std::any_of(corners.begin(), corners.end(),
+                    [&](int v) { return touched[std::size_t(v)] != 0; }))
+      out.push_back(f);
+  }
+  return out;
+}
+
+// One repair search from `start`, a round within the tolerance that folds: each step fits every
+// remedy from the state kept so far and keeps the remedied fit that folds least when it is within
+// the tolerance and folds less. With `holdParameters` the fits keep the samples' parameters (no
+// parameter correction), so a remedy changes the surface only near the faces it acts on. Every
+// fit's summary goes to `rounds`; returns the state kept last.
+FitState repairFolds(const FitState& start, bool holdParameters,
+                     const TSplineAdaptiveFitOptions& options, const FitProgress& progress,
+                     std::vector<TSplineFitRound>& rounds) {
+  FitState kept = start;
+  if (holdParameters) kept.fitOptions.correctionRounds = 0;
+  for (int step = 0; step < options.maxRepairSteps && kept.check.foldCount > 0; ++step) {
+    std::vector<int> at = facesOf(kept.check.folds);
+    const std::vector<int> away = facesOf(kept.check.facingAway);
+    at.insert(at.end(), away.begin(), away.end());
+    std::sort(at.begin(), at.end());
+    at.erase(std::unique(at.begin(), at.end()), at.end());
+    const std::vector<int> around = withNeighbours(kept.mesh, at);
+    std::optional<FitState> best;
+    for (const FoldRemedy remedy : {FoldRemedy::Split, FoldRemedy::Stiffen, FoldRemedy::SplitAround,
+                                    FoldRemedy::StiffenAround}) {
+      FitState candidate = kept;
+      const std::vector<int>& faces =
+          remedy == FoldRemedy::SplitAround || remedy == FoldRemedy::StiffenAround ? around : at;
+      int remedied = 0;
+      if (remedy == FoldRemedy::Split || remedy == FoldRemedy::SplitAround) {
+        const std::vector<int> splits = splitWithinBudget(candidate, faces, options);
+        split(candidate, splits);
+        remedied = int(splits.size());
+      } else {
+        remedied = stiffen(candidate, faces, options);
+      }
+      if (remedied == 0) continue;
+      TSplineFitRound summary = fitAndMeasure(candidate, int(rounds.size()), options, progress);
+      summary.repairOf = kept.round;
+      summary.remedy = remedy;
+      summary.remediedFaces = remedied;
+      summary.parametersHeld = holdParameters;
+      rounds.push_back(summary);
+      if (candidate.within() &&
+          candidate.check.foldCount < (best ? best->check : kept.check).foldCount)
+        best = std::move(candidate);
+      // No remedy can fold less than none.
+      if (best && best->check.foldCount == 0) break;
+    }
+    if (!best) break;
+    kept = std::move(*best);
+  }
+  return kept;
+}
+
+}  // namespace
+
+const char* foldRemedyName(FoldRemedy remedy) {
+  switch (remedy) {
+    case FoldRemedy::Split:
+      return "split";
+    case FoldRemedy::Stiffen:
+      return "stiffen";
+    case FoldRemedy::SplitAround:
+      return "split around";
+    case FoldRemedy::StiffenAround:
+      return "stiffen around";
+  }
+  return "";
+}
 
 TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
                                               const std::vector<FacePoint>& parameters,
@@ -17,90 +204,50 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
                                               const TSplineAdaptiveFitOptions& options,
                                               const FitProgress& progress) {
   TSplineAdaptiveFitResult result;
-  result.mesh = mesh;
-  // The samples: the given ones, then the stray surface points the measurement adds.
-  std::vector<FacePoint> current;
-  current.reserve(parameters.size());
-  for (const auto& p : parameters) current.push_back({p.face, p.position});
-  Eigen::MatrixX3d samples = targets;
-  SurfaceFitOptions fitOptions = options.fit;
-  fitOptions.faceFairing = Eigen::VectorXd::Ones(mesh.numFaces());
-  const Eigen::VectorXd unitWeights;
+  FitState state;
+  state.mesh = mesh;
+  state.at.reserve(parameters.size());
+  for (const auto& p : parameters) state.at.push_back({p.face, p.position});
+  state.samples = targets;
+  state.fitOptions = options.fit;
+  state.fitOptions.faceFairing = Eigen::VectorXd::Ones(mesh.numFaces());
   int previousFolds = std::numeric_limits<int>::max();
   // The best round so far (see the header).
-  struct Kept {
-    TMesh mesh;
-    SurfaceFitResult fit;
-    std::vector<FacePoint> parameters;
-    bool reachedTolerance = false, within = false;
-    int folds = 0, round = -1;
-  } kept;
+  std::optional<FitState> kept;
+  const auto keepIfBetter = [&](const FitState& s) {
+    if (!kept || !kept->within() || (s.within() && s.check.foldCount <= kept->check.foldCount))
+      kept = s;
+  };
   for (int round = 0;; ++round) {
-    const auto start = std::chrono::steady_clock::now();
-    const TSplineSpace space(result.mesh);
-    const TSplineFitSpace fitSpace(space, unitWeights);
-    const auto roundProgress = [&](const std::string& stage, double fraction) {
-      if (progress) progress("round " + std::to_string(round + 1) + ": " + stage, fraction);
-    };
-    result.fit = fitSurface(fitSpace, current, samples, fitOptions, roundProgress);
-    // The smoothing weight is relative to typical functions (surface_fit.h), so the one chosen
-    // on the first round holds for the refined ones.
-    fitOptions.smoothing = result.fit.smoothing;
-    current = result.fit.parameters;
-    TSplineFitRound summary;
-    summary.controlPoints = space.numBasis();
-    summary.faces = result.mesh.numFaces();
-    summary.rmsError = result.fit.rmsError;
-    summary.maxError = result.fit.maxError;
-    TSplineSurfaceCheck check;
-    if (options.measure) {
-      roundProgress("measuring the surface", 1.0);
-      check = options.measure(result.mesh, result.fit);
-    }
-    const bool samplesWithin = result.fit.rmsError <= options.tolerance &&
-                               result.fit.maxError <= options.maxErrorFactor * options.tolerance;
-    result.reachedTolerance = samplesWithin && check.accepted;
-    summary.folds = check.foldCount;
-    const bool within = samplesWithin && check.distancesWithin;
-    if (!kept.within || (within && check.foldCount <= kept.folds))
-      kept = {result.mesh, result.fit, current, result.reachedTolerance, within, check.foldCount,
-              round};
-    const auto finish = [&] {
-      summary.seconds =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    TSplineFitRound summary = fitAndMeasure(state, round, options, progress);
+    keepIfBetter(state);
+    const TSplineSurfaceCheck& check = state.check;
+    if (state.reachedTolerance() || round >= options.maxRefinements) {
       result.rounds.push_back(summary);
-    };
-    if (result.reachedTolerance || round >= options.maxRefinements) {
-      finish();
       break;
     }
     // The worst distance per face, of the samples and of the stray surface points; faces beyond
-    // the tolerance are split, worst first, as far as the budget goes (a split adds about five
-    // vertices: one inside, four on sides).
-    std::vector<double> faceError(std::size_t(result.mesh.numFaces()), 0.0);
+    // the tolerance are split, worst first, as far as the budget goes.
+    const TSplineSpace space(state.mesh);
+    const TSplineFitSpace fitSpace(space, unitWeights);
+    std::vector<double> faceError(std::size_t(state.mesh.numFaces()), 0.0);
     const auto count = [&](const FacePoint& p, double d) {
       if (std::isfinite(d))
         faceError[std::size_t(p.face)] = std::max(faceError[std::size_t(p.face)], d);
     };
-    for (std::size_t s = 0; s < current.size(); ++s)
-      count(current[s], result.fit.distances[Eigen::Index(s)] *
-                            (fitOptions.sampleWeights.size() > 0
-                                 ? std::sqrt(fitOptions.sampleWeights[Eigen::Index(s)])
-                                 : 1.0));
+    const Eigen::VectorXd& weights = state.fitOptions.sampleWeights;
+    for (std::size_t s = 0; s < state.at.size(); ++s)
+      count(state.at[s], state.fit.distances[Eigen::Index(s)] *
+                             (weights.size() > 0 ? std::sqrt(weights[Eigen::Index(s)]) : 1.0));
     for (std::size_t k = 0; k < check.strays.size(); ++k)
       count(check.strays[k],
-            (evaluateFitSurface(fitSpace, result.fit.controlPoints, check.strays[k]) -
+            (evaluateFitSurface(fitSpace, state.fit.controlPoints, check.strays[k]) -
              check.strayTargets.row(Eigen::Index(k)).transpose())
                 .norm());
     // Folds: a stiffer fairing where they are, and no split there.
-    std::vector<char> folded(faceError.size(), 0);
-    for (const auto& p : check.folds) folded[std::size_t(p.face)] = 1;
+    const std::vector<int> folded = facesOf(check.folds);
+    summary.stiffenedFaces = stiffen(state, folded, options);
     const int folds = int(check.folds.size());
-    for (std::size_t f = 0; f < folded.size(); ++f)
-      if (folded[f])
-        fitOptions.faceFairing[Eigen::Index(f)] = std::min(
-            fitOptions.faceFairing[Eigen::Index(f)] * options.foldFairing, options.maxFoldFairing);
-    summary.stiffenedFaces = int(std::count(folded.begin(), folded.end(), 1));
     // Beyond the maximum wanted, or (when only the RMS is off) beyond the tolerance; when only
     // the measurement is off, only the faces of its stray points, not every face holding a
     // sample above the tolerance.
@@ -109,81 +256,56 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
         maxError > options.maxErrorFactor * options.tolerance
             ? std::max(options.tolerance,
                        std::min(0.5 * options.maxErrorFactor * options.tolerance, 0.5 * maxError))
-        : !samplesWithin          ? options.tolerance
-        : options.measure ? std::max(options.tolerance, check.strayDistance)
-                          : 0.5 * options.maxErrorFactor * options.tolerance;
+        : !state.samplesWithin ? options.tolerance
+        : options.measure      ? std::max(options.tolerance, check.strayDistance)
+                               : 0.5 * options.maxErrorFactor * options.tolerance;
     std::vector<int> order(faceError.size());
     std::iota(order.begin(), order.end(), 0);
     std::sort(order.begin(), order.end(),
               [&](int a, int b) { return faceError[std::size_t(a)] > faceError[std::size_t(b)]; });
-    const std::size_t budget =
-        std::size_t(std::max(0, (options.maxControlPoints - space.numBasis()) / 5));
     std::vector<int> candidates;
     for (const int f : order) {
       if (faceError[std::size_t(f)] <= threshold) break;
-      if (!folded[std::size_t(f)]) candidates.push_back(f);
+      if (!std::binary_search(folded.begin(), folded.end(), f)) candidates.push_back(f);
     }
-    // Cap regions at cones are split whole or not at all (no T-junction may enter them): the
-    // longest run of candidates, worst first, whose faces with their whole regions fit the budget.
-    const auto withinBudget = [&] {
-      const auto closure = [&](std::size_t length) {
-        return withWholeCapRegions(result.mesh, {candidates.begin(), candidates.begin() + length});
-      };
-      std::size_t fitting = 0, over = candidates.size() + 1;
-      while (over - fitting > 1) {
-        const std::size_t middle = (fitting + over) / 2;
-        (closure(middle).size() <= budget ? fitting : over) = middle;
-      }
-      return closure(fitting);
-    };
-    std::vector<int> marked = withinBudget();
+    const std::vector<int> marked = splitWithinBudget(state, candidates, options);
     // The stray points join the samples (unit weight: they are points of the scan).
     const auto strays = Eigen::Index(check.strays.size());
     summary.addedSamples = int(strays);
     if (strays > 0) {
-      const Eigen::Index old = samples.rows();
-      samples.conservativeResize(old + strays, 3);
-      samples.bottomRows(strays) = check.strayTargets;
-      current.insert(current.end(), check.strays.begin(), check.strays.end());
-      if (fitOptions.sampleWeights.size() > 0) {
-        fitOptions.sampleWeights.conservativeResize(samples.rows());
-        fitOptions.sampleWeights.tail(samples.rows() - old).setOnes();
+      const Eigen::Index old = state.samples.rows();
+      state.samples.conservativeResize(old + strays, 3);
+      state.samples.bottomRows(strays) = check.strayTargets;
+      state.at.insert(state.at.end(), check.strays.begin(), check.strays.end());
+      if (weights.size() > 0) {
+        state.fitOptions.sampleWeights.conservativeResize(state.samples.rows());
+        state.fitOptions.sampleWeights.tail(state.samples.rows() - old).setOnes();
       }
     }
     // Another round when it has something to act on: refined faces, new samples, or folds that
     // the last stiffening reduced.
     const bool unfolding = summary.stiffenedFaces > 0 && folds < previousFolds;
     previousFolds = folds;
-    // Nothing of that, but folds on a surface within the tolerance: the faces where they are are
-    // split (cap regions whole), a last resort that costs nothing but time, since a round that
-    // folds more is not the one kept.
-    if (marked.empty() && strays == 0 && !unfolding && within && check.foldCount > 0) {
-      candidates.clear();
-      for (const auto& p : check.folds) candidates.push_back(p.face);
-      for (const auto& p : check.facingAway) candidates.push_back(p.face);
-      std::sort(candidates.begin(), candidates.end());
-      candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
-      marked = withinBudget();
-      summary.foldSplits = !marked.empty();
-    }
     summary.splitFaces = int(marked.size());
-    finish();
-    if (marked.empty() && summary.addedSamples == 0 && !unfolding) break;
-    for (const int f : marked) {
-      const Eigen::Index first = result.mesh.numFaces();
-      splitIntoFour(result.mesh, f, current);
-      // The new parts keep the face's fairing factor.
-      fitOptions.faceFairing.conservativeResize(result.mesh.numFaces());
-      fitOptions.faceFairing.tail(result.mesh.numFaces() - first)
-          .setConstant(fitOptions.faceFairing[f]);
-    }
+    result.rounds.push_back(summary);
+    if (marked.empty() && strays == 0 && !unfolding) break;
+    split(state, marked);
   }
-  result.keptRound = kept.round;
-  result.mesh = std::move(kept.mesh);
-  result.fit = std::move(kept.fit);
-  result.reachedTolerance = kept.reachedTolerance;
-  result.parameters.assign(kept.parameters.begin(),
-                           kept.parameters.begin() + std::ptrdiff_t(parameters.size()));
+  // The repair (see the header): two searches from the round kept, the better one's end kept
+  // (the second only when the first still folds).
+  if (kept->within() && kept->check.foldCount > 0) {
+    FitState moved = repairFolds(*kept, false, options, progress, result.rounds);
+    if (moved.check.foldCount > 0) {
+      FitState held = repairFolds(*kept, true, options, progress, result.rounds);
+      if (held.check.foldCount < moved.check.foldCount) moved = std::move(held);
+    }
+    kept = std::move(moved);
+  }
+  result.keptRound = kept->round;
+  result.mesh = std::move(kept->mesh);
+  result.fit = std::move(kept->fit);
+  result.reachedTolerance = kept->reachedTolerance();
+  result.parameters.assign(kept->at.begin(), kept->at.begin() + std::ptrdiff_t(parameters.size()));
   return result;
 }
 

@@ -9,11 +9,8 @@
 // loop also acts on it: points of the surface that stray from the scan become samples (their
 // closest scan points) and their faces are refined like the samples'; faces where the surface
 // folds get a stiffer fairing term instead (more freedom would not unfold them); and the
-// tolerance is reached only when the measurement accepts the surface too. When a round leaves
-// nothing of this to act on but the surface, within the tolerance, still folds (adjacent
-// triangles, or triangles facing away from the scan), the faces where it folds are split as a
-// last resort. A cone's cap region (tspline_cap.h) is split whole or not at all, so that no
-// T-junction enters it.
+// tolerance is reached only when the measurement accepts the surface too. A cone's cap region
+// (tspline_cap.h) is split whole or not at all, so that no T-junction enters it.
 //
 // The loop returns its best round, not always its last: of the rounds whose samples and measured
 // distances are within the tolerance, the one with the fewest folds (the latest of equals); the
@@ -22,6 +19,22 @@
 // fifth), and a user is better served by the round that folds least, but not at the price of
 // distances: a round without folds whose surface strays (pipe: 1.5% RMS after the first fit)
 // is worse than one with a few folds.
+//
+// Then the best round is repaired when it is within the tolerance but folds (adjacent triangles,
+// or triangles facing away from the scan). Each step fits every remedy (FoldRemedy: split the
+// faces where it folds or stiffen their fairing, those faces alone or with their neighbours)
+// from the round kept, and keeps the remedied fit that folds least when it is within the
+// tolerance and folds less; and again from there. Two such searches start from the best round:
+// one whose fits correct the samples' parameters as the refinement rounds do (the surface may
+// move everywhere), one whose fits hold them (one solve at the parameters of the round repaired,
+// so a remedy changes the surface only near the faces it acts on); the end that folds less is
+// returned. A search stops at a fit without folds (the second does not start). Which remedy unfolds
+// a surface depends on why it folds: more freedom where a face is too coarse to follow the scan (a
+// box corner), a stiffer fairing where the fit overshoots a crease sharper than the cells can
+// follow (lion's mane); and the folds of a round move when its parameters are corrected. Each
+// remedy alone, as a rule in the refinement rounds, gained some meshes and lost others; tried from
+// the best round and kept only where it helps, none can make the surface returned worse.
+
 #include <functional>
 #include <vector>
 
@@ -53,6 +66,20 @@ struct TSplineSurfaceCheck {
   bool accepted = true;
 };
 
+/// What the repair does to the faces where the round it starts from folds.
+enum class FoldRemedy {
+  /// Split them into four (cap regions whole), within the control point budget.
+  Split,
+  /// Multiply their fairing factor by foldFairing, up to maxFoldFairing.
+  Stiffen,
+  /// The same for them and every face sharing a vertex with one of them.
+  SplitAround,
+  StiffenAround,
+};
+
+/// "split", "stiffen", "split around", "stiffen around".
+const char* foldRemedyName(FoldRemedy remedy);
+
 /// Measures the surface of `fit` (control points, samples' parameters) on `mesh`.
 using TSplineSurfaceMeasure =
     std::function<TSplineSurfaceCheck(const TMesh& mesh, const SurfaceFitResult& fit)>;
@@ -71,6 +98,8 @@ struct TSplineAdaptiveFitOptions {
   /// away from its samples on 3torus: a sample 18% of the diagonal off).
   double foldFairing = 10.0;
   double maxFoldFairing = 1000.0;
+  /// At most this many steps in each repair search (a step fits every remedy once).
+  int maxRepairSteps = 4;
   /// Optional: measures the surface after every fit (see above).
   TSplineSurfaceMeasure measure;
   SurfaceFitOptions fit;
@@ -88,10 +117,16 @@ struct TSplineFitRound {
   /// was raised for folds after this round.
   int addedSamples = 0;
   int stiffenedFaces = 0;
-  /// With a measurement: the folds it counted, and whether the faces split after this round were
-  /// those where it folded (the last resort, see above).
+  /// With a measurement: the folds it counted.
   int folds = 0;
-  bool foldSplits = false;
+  /// A repair's fit (after the refinement rounds): the round it started from (-1 for a refinement
+  /// round), the remedy applied to that round's T-mesh and fairing, and the faces it split or
+  /// stiffened.
+  int repairOf = -1;
+  FoldRemedy remedy = FoldRemedy::Split;
+  int remediedFaces = 0;
+  /// A repair's fit that held the samples' parameters (see above).
+  bool parametersHeld = false;
   double seconds = 0.0;
 };
 
@@ -103,8 +138,10 @@ struct TSplineAdaptiveFitResult {
   /// The samples' parameters on `mesh` (after parameter correction); `fit` also holds the stray
   /// surface points' samples, after these.
   std::vector<FacePoint> parameters;
+  /// Every fit made: the refinement rounds in order, then the repair searches' fits (the one
+  /// that corrects parameters first).
   std::vector<TSplineFitRound> rounds;
-  /// The round returned (index into rounds; the last one without a measurement).
+  /// The round returned (index into rounds; the last refinement round without a measurement).
   int keptRound = 0;
   /// RMS <= tolerance and max <= maxErrorFactor * tolerance, and the measurement (when given)
   /// accepted the surface.

@@ -1,5 +1,6 @@
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -174,9 +175,10 @@ TEST_CASE("tspline_adaptive_fit: a fold stiffens the fairing there instead of re
   CHECK(lambdas[1] == Approx(lambdas[0]).epsilon(1e-2));
 }
 
-TEST_CASE("tspline_adaptive_fit: of the rounds within the tolerance, the one that folds least is "
-          "returned",
-          "[spline]") {
+TEST_CASE(
+    "tspline_adaptive_fit: of the rounds within the tolerance, the one that folds least is "
+    "returned",
+    "[spline]") {
   // Every measurement reports a stray point (each round refines a face and takes a sample) and
   // folds 4, 1, 0. When the third round's distances are out of tolerance, the second round (the
   // fewest folds of those within) is returned with its T-mesh, fit and parameters; when no
@@ -226,43 +228,84 @@ TEST_CASE("tspline_adaptive_fit: of the rounds within the tolerance, the one tha
   }
 }
 
-TEST_CASE("tspline_adaptive_fit: folds nothing else acts on are split as a last resort",
-          "[spline]") {
-  // The first measurement reports one triangle facing away from the scan on face (4, 3) and
-  // nothing else to act on (no strays, no adjacent folds): within the tolerance, that face is
-  // split and the next round is measured without folds. With the distances out of tolerance,
-  // nothing is split (a round that folds more could then be the one returned) and the loop ends.
+TEST_CASE(
+    "tspline_adaptive_fit: a round within the tolerance that folds is repaired by the remedy "
+    "that unfolds it",
+    "[spline]") {
+  // Every measurement that reports folds puts them on face (4, 3) as triangles facing away from
+  // the scan, with nothing else to act on (no strays, no adjacent folds), so the refinement ends
+  // after its first round. Two repair searches follow, one correcting the samples' parameters,
+  // then one holding them; each step fits the four remedies (split the face, stiffen it, the
+  // same with its 8 neighbours) from the round it keeps, and keeps the one that folds least, only
+  // when it is within the tolerance and folds less. The search's end that folds less is returned;
+  // a search stops at a fit without folds, and the second runs only when the first still folds.
+  struct Case {
+    const char* name;
+    std::vector<int> folds;     // per measurement: the first round, then every repair fit
+    std::vector<int> repairOf;  // per repair fit
+    int heldFrom;               // the first fit of the search holding the parameters
+    int outOfTolerance;         // the measurement whose distances are out of tolerance (-1: none)
+    int kept;
+  };
+  const std::vector<int> fromFirst(8, 0);
   const int n = 12;
   const TorusSamples t = torusSamples(n, 12);
   const int face = 3 * n + 4;
-  for (const bool within : {true, false}) {
+  const std::array<int, 4> remediedFaces{1, 1, 9, 9};
+  const std::array<int, 4> facesAfter{n * n + 3, n * n, n * n + 27, n * n};
+  for (const Case& c :
+       {Case{"the split unfolds (nothing more is fitted)", {1, 0}, {0}, 2, -1, 1},
+        Case{"stiffening around, holding the parameters, unfolds",
+             {1, 2, 1, 3, 1, 1, 1, 1, 0},
+             fromFirst,
+             5,
+             -1,
+             8},
+        Case{"every remedy folds more", {1, 2, 3, 2, 2, 2, 3, 2, 2}, fromFirst, 5, -1, 0},
+        Case{"the split unfolds but strays", {1, 0, 1, 1, 1, 1, 1, 1, 1}, fromFirst, 5, 1, 0},
+        Case{"out of tolerance: no repair", {1}, {}, 1, 0, 0},
+        Case{"two steps", {2, 3, 1, 3, 3, 2, 2, 0}, {0, 0, 0, 0, 2, 2, 2}, 8, -1, 7}}) {
+    INFO(c.name);
     spline::TSplineAdaptiveFitOptions options;
     options.tolerance = 4e-3;
-    int calls = 0;
-    options.measure = [&](const spline::TMesh&, const spline::SurfaceFitResult&) {
+    std::vector<int> facesMeasured;
+    std::vector<int> correctionsMeasured;
+    options.measure = [&](const spline::TMesh& mesh, const spline::SurfaceFitResult& fit) {
+      const int call = int(facesMeasured.size());
+      facesMeasured.push_back(mesh.numFaces());
+      correctionsMeasured.push_back(fit.rounds);
       spline::TSplineSurfaceCheck check;
-      if (calls++ == 0) {
-        check.facingAway.push_back({face, Eigen::Vector2d(0.5, 0.5)});
-        check.foldCount = 1;
-        check.distancesWithin = within;
-        check.accepted = false;
-      }
+      check.foldCount = c.folds.at(std::size_t(call));
+      if (check.foldCount > 0) check.facingAway.push_back({face, Eigen::Vector2d(0.5, 0.5)});
+      check.distancesWithin = call != c.outOfTolerance;
+      check.accepted = check.distancesWithin && check.foldCount == 0;
       return check;
     };
     const spline::TSplineAdaptiveFitResult result =
         spline::fitTSplineAdaptively(t.mesh, t.parameters, t.targets, options);
-    INFO("distances within: " << within);
-    REQUIRE(result.rounds.size() == (within ? 2u : 1u));
+    REQUIRE(result.rounds.size() == c.folds.size());
     CHECK(result.rounds[0].rmsError <= options.tolerance);
-    CHECK(result.rounds[0].folds == 1);
-    CHECK(result.rounds[0].foldSplits == within);
     CHECK(result.rounds[0].stiffenedFaces == 0);
-    CHECK(result.reachedTolerance == within);
-    if (!within) continue;
-    CHECK(result.rounds[0].splitFaces == 1);
-    CHECK(result.keptRound == 1);
-    CHECK(result.mesh.numFaces() == n * n + 3);
-    CHECK(result.mesh.faces[std::size_t(face)].width == Approx(0.5));
+    CHECK(result.rounds[0].splitFaces == 0);
+    CHECK(result.rounds[0].repairOf == -1);
+    for (std::size_t k = 1; k < result.rounds.size(); ++k) {
+      const auto& round = result.rounds[k];
+      const bool held = int(k) >= c.heldFrom;
+      const std::size_t remedy = (k - (held ? std::size_t(c.heldFrom) : 1)) % 4;
+      CHECK(round.folds == c.folds[k]);
+      CHECK(round.repairOf == c.repairOf[k - 1]);
+      CHECK(round.parametersHeld == held);
+      CHECK(int(round.remedy) == int(remedy));
+      CHECK(round.remediedFaces == remediedFaces[remedy]);
+      CHECK(facesMeasured[k] == facesAfter[remedy]);
+      // Held: one solve at the parameters of the round repaired, no correction.
+      CHECK(correctionsMeasured[k] == (held ? 0 : options.fit.correctionRounds));
+    }
+    CHECK(result.keptRound == c.kept);
+    CHECK(result.mesh.numFaces() == facesMeasured[std::size_t(c.kept)]);
+    CHECK(result.fit.rmsError == result.rounds[std::size_t(c.kept)].rmsError);
+    CHECK(result.reachedTolerance == (c.folds[std::size_t(c.kept)] == 0));
+    if (c.kept == 1) CHECK(result.mesh.faces[std::size_t(face)].width == Approx(0.5));
   }
 }
 
