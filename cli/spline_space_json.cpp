@@ -12,6 +12,8 @@ Json gridJson(const spline::GridFigures& grid) {
           {"rectangles", grid.rectangles},
           {"cell_size", grid.cellSize},
           {"max_rounding_error", grid.maxRoundingError},
+          {"collapsed_segments", grid.collapsedSegments},
+          {"collapsed_rectangles", grid.collapsedRectangles},
           {"anisotropy", grid.anisotropy}};
 }
 

@@ -107,6 +107,8 @@ void buildTSpline(const BuildSplineOptions& s, const Flattening& flattening,
     setup.grid.rectangles = int(layout->rectangles().size());
     setup.grid.cellSize = quadOptions.cellSize;
     setup.grid.maxRoundingError = quads->maxRoundingError;
+    setup.grid.collapsedSegments = quads->collapsedSegments;
+    setup.grid.collapsedRectangles = quads->collapsedRectangles;
     setup.grid.anisotropy = quads->maxAnisotropy;
   }
   addStageSeconds(setup.stageSeconds, "grid", clock.lap());

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <string>
 
 #include <Eigen/Dense>
@@ -174,77 +175,214 @@ Eigen::VectorXd roundCells(const Eigen::MatrixXd& constraints, const Eigen::Matr
   return {};
 }
 
-// The cells of every rectangle, glued along the segments; the rectangle whose cells repeat a vertex
-// (a cell around a segment that starts and ends at one node) when that happens, else -1.
-int assembleCells(const MotorcycleLayout& layout, LayoutTMesh& grid) {
+// A segment shorter than this many cells may collapse. The points of a collapsed rectangle are
+// crushed onto a line, which the fit cannot follow where the rectangle is not thin: with half a
+// cell, homer's fit folded 1,373 times, with a tenth 44 times (ellipsoid's and cactus's slivers are
+// 1e-8 and 1e-3 of a cell).
+constexpr double kCollapseBelow = 0.1;
+
+// Vertex ids joined into one T-mesh vertex by collapses.
+struct VertexClasses {
+  std::vector<int> parent;
+  explicit VertexClasses(int count) : parent(std::size_t(count)) {
+    for (int v = 0; v < count; ++v) parent[std::size_t(v)] = v;
+  }
+  int find(int v) {
+    while (parent[std::size_t(v)] != v)
+      v = parent[std::size_t(v)] = parent[std::size_t(parent[std::size_t(v)])];
+    return v;
+  }
+  void join(int a, int b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent[std::size_t(std::max(a, b))] = std::min(a, b);
+  }
+};
+
+// Why assembling the cells failed: a rectangle whose cells repeat a vertex (a cell around a
+// segment that starts and ends at one node), or collapsed segments to give a cell again.
+struct AssemblyFailure {
+  int repeatingRectangle = -1;
+  std::vector<int> uncollapse;
+  bool failed() const { return repeatingRectangle >= 0 || !uncollapse.empty(); }
+};
+
+// The cells of every rectangle, glued along the segments, collapsed segments and rectangles
+// joining their vertices.
+AssemblyFailure assembleCells(const MotorcycleLayout& layout, LayoutTMesh& grid) {
   const auto& segments = layout.segments();
   const auto& rectangles = layout.rectangles();
+  const auto& nodes = layout.nodes();
   // Vertex ids: nodes, then inner points of segments, then inner points of rectangles.
   std::vector<int> segmentBase(segments.size());
-  int next = int(layout.nodes().size());
+  int next = int(nodes.size());
   for (std::size_t e = 0; e < segments.size(); ++e) {
     segmentBase[e] = next;
-    next += grid.segmentCells[e] - 1;
+    next += std::max(0, grid.segmentCells[e] - 1);
   }
   const auto sideCells = [&](const std::vector<int>& side) {
     int cells = 0;
     for (int he : side) cells += grid.segmentCells[std::size_t(he / 2)];
     return cells;
   };
-  std::vector<TMeshFace> faces;
   grid.rectangleCells.clear();
-  grid.firstCell.clear();
   grid.maxAnisotropy = 1.0;
+  grid.collapsedRectangles = 0;
+  std::vector<int> innerBase(rectangles.size(), -1);
   for (std::size_t r = 0; r < rectangles.size(); ++r) {
     const LayoutRectangle& rect = rectangles[r];
     const int cellsX = sideCells(rect.sides[0]), cellsY = sideCells(rect.sides[1]);
     grid.rectangleCells.push_back({cellsX, cellsY});
+    if (cellsX == 0 || cellsY == 0) {
+      ++grid.collapsedRectangles;
+      continue;
+    }
     const double sx = cellsX / rect.width(), sy = cellsY / rect.height();
     grid.maxAnisotropy = std::max(grid.maxAnisotropy, std::max(sx / sy, sy / sx));
-    const int innerBase = next;
+    innerBase[r] = next;
     next += (cellsX - 1) * (cellsY - 1);
-    // The vertex at `offset` cells along side k, from its first corner.
-    const auto onSide = [&](int k, int offset) {
-      for (int he : rect.sides[std::size_t(k)]) {
-        const int cells = grid.segmentCells[std::size_t(he / 2)];
-        const auto& segment = segments[std::size_t(he / 2)];
-        if (offset == 0) return he % 2 == 0 ? segment.from : segment.to;
-        if (offset < cells)
-          return segmentBase[std::size_t(he / 2)] + (he % 2 == 0 ? offset : cells - offset) - 1;
-        offset -= cells;
-      }
-      // The far corner: the first node of the next side.
-      const int he = rect.sides[std::size_t((k + 1) % 4)].front();
+  }
+  // The vertex at `offset` cells along side k of rectangle r, from its first corner.
+  const auto onSide = [&](std::size_t r, int k, int offset) {
+    const LayoutRectangle& rect = rectangles[r];
+    for (int he : rect.sides[std::size_t(k)]) {
+      const int cells = grid.segmentCells[std::size_t(he / 2)];
       const auto& segment = segments[std::size_t(he / 2)];
-      return he % 2 == 0 ? segment.from : segment.to;
+      if (offset == 0) return he % 2 == 0 ? segment.from : segment.to;
+      if (offset < cells)
+        return segmentBase[std::size_t(he / 2)] + (he % 2 == 0 ? offset : cells - offset) - 1;
+      offset -= cells;
+    }
+    // The far corner: the first node of the next side.
+    const int he = rect.sides[std::size_t((k + 1) % 4)].front();
+    const auto& segment = segments[std::size_t(he / 2)];
+    return he % 2 == 0 ? segment.from : segment.to;
+  };
+  VertexClasses classes(next);
+  grid.collapsedSegments = 0;
+  for (std::size_t e = 0; e < segments.size(); ++e)
+    if (grid.segmentCells[e] == 0) {
+      ++grid.collapsedSegments;
+      classes.join(segments[e].from, segments[e].to);
+    }
+  for (std::size_t r = 0; r < rectangles.size(); ++r) {
+    const auto [cellsX, cellsY] = grid.rectangleCells[r];
+    if (cellsX == 0)
+      for (int j = 0; j <= cellsY; ++j) classes.join(onSide(r, 1, j), onSide(r, 3, cellsY - j));
+    else if (cellsY == 0)
+      for (int i = 0; i <= cellsX; ++i) classes.join(onSide(r, 0, i), onSide(r, 2, cellsX - i));
+  }
+  // The collapsed segments in the classes `classRoots`: what to undo when those classes fail.
+  AssemblyFailure failure;
+  const auto uncollapseAround = [&](const std::vector<int>& classRoots) {
+    for (std::size_t e = 0; e < segments.size(); ++e)
+      if (grid.segmentCells[e] == 0)
+        for (int root : classRoots)
+          if (classes.find(segments[e].from) == root) failure.uncollapse.push_back(int(e));
+  };
+  // Two cones joined would change the layout's structure.
+  std::vector<int> coneOfClass(std::size_t(next), -1), doubleCones;
+  for (std::size_t v = 0; v < nodes.size(); ++v) {
+    if (nodes[v].vertex < 0) continue;
+    int& cone = coneOfClass[std::size_t(classes.find(int(v)))];
+    if (cone >= 0) doubleCones.push_back(classes.find(int(v)));
+    cone = int(v);
+  }
+  if (!doubleCones.empty()) {
+    uncollapseAround(doubleCones);
+    if (failure.uncollapse.empty()) {
+      for (std::size_t e = 0; e < segments.size(); ++e)
+        if (grid.segmentCells[e] == 0) failure.uncollapse.push_back(int(e));
+    }
+    return failure;
+  }
+  std::vector<TMeshFace> faces;
+  grid.firstCell.assign(rectangles.size(), -1);
+  for (std::size_t r = 0; r < rectangles.size(); ++r) {
+    const auto [cellsX, cellsY] = grid.rectangleCells[r];
+    if (innerBase[r] < 0) continue;
+    const auto vertexAt = [&, cellsX = cellsX, cellsY = cellsY](int i, int j) {
+      if (j == 0) return onSide(r, 0, i);
+      if (i == cellsX) return onSide(r, 1, j);
+      if (j == cellsY) return onSide(r, 2, cellsX - i);
+      if (i == 0) return onSide(r, 3, cellsY - j);
+      return innerBase[r] + (j - 1) * (cellsX - 1) + (i - 1);
     };
-    const auto vertexAt = [&](int i, int j) {
-      if (j == 0) return onSide(0, i);
-      if (i == cellsX) return onSide(1, j);
-      if (j == cellsY) return onSide(2, cellsX - i);
-      if (i == 0) return onSide(3, cellsY - j);
-      return innerBase + (j - 1) * (cellsX - 1) + (i - 1);
-    };
-    grid.firstCell.push_back(int(faces.size()));
+    grid.firstCell[r] = int(faces.size());
     for (int j = 0; j < cellsY; ++j)
       for (int i = 0; i < cellsX; ++i) {
         TMeshFace face;
-        face.vertices = {vertexAt(i, j), vertexAt(i + 1, j), vertexAt(i + 1, j + 1),
-                         vertexAt(i, j + 1)};
+        face.vertices = {classes.find(vertexAt(i, j)), classes.find(vertexAt(i + 1, j)),
+                         classes.find(vertexAt(i + 1, j + 1)), classes.find(vertexAt(i, j + 1))};
         face.positions = {{0.0, 0.0}, {1.0, 0.0}, {1.0, 1.0}, {0.0, 1.0}};
         std::vector<int> sorted = face.vertices;
         std::sort(sorted.begin(), sorted.end());
-        if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) return int(r);
+        if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) {
+          uncollapseAround(sorted);
+          if (failure.uncollapse.empty()) failure.repeatingRectangle = int(r);
+          return failure;
+        }
         faces.push_back(std::move(face));
       }
   }
+  // Compact ids: the classes' roots in order.
+  std::vector<int> id(std::size_t(next), -1);
+  int count = 0;
+  for (int v = 0; v < next; ++v)
+    if (classes.find(v) == v) id[std::size_t(v)] = count++;
+  for (TMeshFace& face : faces)
+    for (int& v : face.vertices) v = id[std::size_t(v)];
   try {
-    grid.mesh = buildTMesh(next, std::move(faces));
+    grid.mesh = buildTMesh(count, std::move(faces));
   } catch (const structure::InputError& error) {
+    if (grid.collapsedSegments > 0) {
+      for (std::size_t e = 0; e < segments.size(); ++e)
+        if (grid.segmentCells[e] == 0) failure.uncollapse.push_back(int(e));
+      return failure;
+    }
     throw structure::SolverError(std::string("layout T-mesh: the grid does not close up: ") +
                                  error.what());
   }
-  return -1;
+  // Where the points of collapsed rectangles go: the cell sides of the side they kept.
+  std::map<std::pair<int, int>, FacePoint> edgeStart;
+  std::vector<FacePoint> atVertex(static_cast<std::size_t>(count));
+  for (int f = 0; f < grid.mesh.numFaces(); ++f) {
+    const TMeshFace& face = grid.mesh.faces[std::size_t(f)];
+    for (std::size_t k = 0; k < 4; ++k) {
+      edgeStart[{face.vertices[k], face.vertices[(k + 1) % 4]}] = {f, face.positions[k]};
+      atVertex[std::size_t(face.vertices[k])] = {f, face.positions[k]};
+    }
+  }
+  const auto step = [&](int from, int to) -> std::array<FacePoint, 2> {
+    from = id[std::size_t(classes.find(from))];
+    to = id[std::size_t(classes.find(to))];
+    const auto endOf = [&](const FacePoint& start, int vertex) {
+      const TMeshFace& face = grid.mesh.faces[std::size_t(start.face)];
+      const auto k = std::size_t(std::find(face.vertices.begin(), face.vertices.end(), vertex) -
+                                 face.vertices.begin());
+      return FacePoint{start.face, face.positions[(k + 1) % 4]};
+    };
+    if (const auto it = edgeStart.find({from, to}); it != edgeStart.end())
+      return {it->second, endOf(it->second, from)};
+    if (const auto it = edgeStart.find({to, from}); it != edgeStart.end())
+      return {endOf(it->second, to), it->second};
+    // Both neighbours across collapsed too: the points of the step share its start.
+    return {atVertex[std::size_t(from)], atVertex[std::size_t(from)]};
+  };
+  grid.collapsedSteps.assign(rectangles.size(), {});
+  for (std::size_t r = 0; r < rectangles.size(); ++r) {
+    const auto [cellsX, cellsY] = grid.rectangleCells[r];
+    auto& steps = grid.collapsedSteps[r];
+    if (cellsX == 0 && cellsY == 0) {
+      const FacePoint point = atVertex[std::size_t(id[std::size_t(classes.find(onSide(r, 0, 0)))])];
+      steps.push_back({point, point});
+    } else if (cellsX == 0) {
+      for (int j = 0; j < cellsY; ++j) steps.push_back(step(onSide(r, 1, j), onSide(r, 1, j + 1)));
+    } else if (cellsY == 0) {
+      for (int i = 0; i < cellsX; ++i) steps.push_back(step(onSide(r, 0, i), onSide(r, 0, i + 1)));
+    }
+  }
+  return failure;
 }
 
 }  // namespace
@@ -264,17 +402,25 @@ LayoutTMesh layoutTMesh(const MotorcycleLayout& layout, const LayoutTMeshOptions
         constraints(Eigen::Index(2 * r + pair), he / 2) -= 1.0;
     }
   const Eigen::MatrixXd kernel = integerKernel(constraints);
-  // A segment from a node back to itself needs two cells, or its cells would repeat the node.
-  Eigen::VectorXd minimum = Eigen::VectorXd::Ones(n);
+  // A segment from a node back to itself needs two cells, or its cells would repeat the node;
+  // other segments need one, or none when shorter than kCollapseBelow cells and their collapse
+  // holds.
+  Eigen::VectorXd required = Eigen::VectorXd::Ones(n);
+  std::vector<char> collapsible(std::size_t(n), 1);
   for (Eigen::Index e = 0; e < n; ++e)
-    if (segments[std::size_t(e)].from == segments[std::size_t(e)].to) minimum[e] = 2.0;
+    if (segments[std::size_t(e)].from == segments[std::size_t(e)].to) {
+      required[e] = 2.0;
+      collapsible[std::size_t(e)] = 0;
+    }
   LayoutTMesh grid;
   grid.cellSize = options.cellSize;
   int halvings = 0;
-  for (int attempt = 0; attempt < 12; ++attempt) {
-    Eigen::VectorXd target(n);
-    for (Eigen::Index e = 0; e < n; ++e)
+  for (int attempt = 0; attempt < 24; ++attempt) {
+    Eigen::VectorXd target(n), minimum(n);
+    for (Eigen::Index e = 0; e < n; ++e) {
       target[e] = segments[std::size_t(e)].length() / grid.cellSize;
+      minimum[e] = collapsible[std::size_t(e)] && target[e] < kCollapseBelow ? 0.0 : required[e];
+    }
     const Eigen::VectorXd values =
         roundCells(constraints, kernel, target, minimum, grid.roundingRounds);
     if (values.size() == 0) {
@@ -289,11 +435,16 @@ LayoutTMesh layoutTMesh(const MotorcycleLayout& layout, const LayoutTMeshOptions
       grid.segmentCells[std::size_t(e)] = int(std::lround(values[e]));
       grid.maxRoundingError = std::max(grid.maxRoundingError, std::abs(values[e] - target[e]));
     }
-    const int repeating = assembleCells(layout, grid);
-    if (repeating < 0) return grid;
+    const AssemblyFailure failure = assembleCells(layout, grid);
+    if (!failure.failed()) return grid;
+    for (int e : failure.uncollapse) collapsible[std::size_t(e)] = 0;
     // Cells of that rectangle repeat a vertex: two cells at least along each of its segments.
-    for (const auto& side : rectangles[std::size_t(repeating)].sides)
-      for (int he : side) minimum[he / 2] = std::max(minimum[he / 2] + 1.0, 2.0);
+    if (failure.repeatingRectangle >= 0)
+      for (const auto& side : rectangles[std::size_t(failure.repeatingRectangle)].sides)
+        for (int he : side) {
+          required[he / 2] = std::max(required[he / 2] + 1.0, 2.0);
+          collapsible[std::size_t(he / 2)] = 0;
+        }
   }
   throw structure::SolverError(
       "layout T-mesh: no whole numbers of cells make a valid grid, down to cell size " +
@@ -309,14 +460,25 @@ FacePoint layoutPoint(const MotorcycleLayout& layout, const LayoutTMesh& grid,
     sides[std::size_t(k)] = sideScale(layout, grid.segmentCells, rect.sides[std::size_t(k)]);
   const double w = rect.width(), h = rect.height();
   const double x = point.position.x(), y = point.position.y();
-  const double fy = std::clamp(y / h, 0.0, 1.0), fx = std::clamp(x / w, 0.0, 1.0);
-  const double gridX = (1.0 - fy) * sides[0].map(x * sides[0].flat.back() / w) +
-                       fy * (cellsX - sides[2].map((w - x) * sides[2].flat.back() / w));
-  const double gridY = (1.0 - fx) * (cellsY - sides[3].map((h - y) * sides[3].flat.back() / h)) +
-                       fx * sides[1].map(y * sides[1].flat.back() / h);
+  const double fy = h > 0.0 ? std::clamp(y / h, 0.0, 1.0) : 0.5;
+  const double fx = w > 0.0 ? std::clamp(x / w, 0.0, 1.0) : 0.5;
+  const double gridX = (1.0 - fy) * sides[0].map(fx * sides[0].flat.back()) +
+                       fy * (cellsX - sides[2].map((1.0 - fx) * sides[2].flat.back()));
+  const double gridY = (1.0 - fx) * (cellsY - sides[3].map((1.0 - fy) * sides[3].flat.back())) +
+                       fx * sides[1].map(fy * sides[1].flat.back());
+  const int first = grid.firstCell[std::size_t(point.rectangle)];
+  if (first < 0) {
+    // Collapsed: along the side it kept.
+    const auto& steps = grid.collapsedSteps[std::size_t(point.rectangle)];
+    const double along = cellsX == 0 ? gridY : gridX;
+    const int k = std::clamp(int(std::floor(along)), 0, int(steps.size()) - 1);
+    const double t = std::clamp(along - k, 0.0, 1.0);
+    const auto& [start, end] = steps[std::size_t(k)];
+    return {start.face, (1.0 - t) * start.position + t * end.position};
+  }
   const int i = std::clamp(int(std::floor(gridX)), 0, cellsX - 1);
   const int j = std::clamp(int(std::floor(gridY)), 0, cellsY - 1);
-  return {grid.firstCell[std::size_t(point.rectangle)] + j * cellsX + i,
+  return {first + j * cellsX + i,
           Eigen::Vector2d(std::clamp(gridX - i, 0.0, 1.0), std::clamp(gridY - j, 0.0, 1.0))};
 }
 

@@ -13,7 +13,14 @@
 // break a constraint, whatever parities the quarter-turn holonomy imposes (rounding the lengths
 // one by one can get stuck at half-integers). The coefficients are rounded greedily, the free ones
 // re-solved by least squares towards length / cell size after each round (as mixed-integer
-// quadrangulation does); a segment left without a cell is pulled up and the rounding redone.
+// quadrangulation does); a segment left without its minimum is pulled up and the rounding redone.
+//
+// Collapse: a segment shorter than a tenth of a cell may get no cell. Its two nodes become one
+// T-mesh vertex, and a rectangle left without cells across (two traces running that close)
+// has its two long sides glued together. Without this, the sliver between two nearly coincident
+// traces got a whole cell across and cells a million times longer than wide (ellipsoid). A
+// collapse that would join two cones, repeat a vertex in a cell or break the mesh is undone: its
+// segments get one cell at least and the rounding is redone.
 #include <array>
 #include <vector>
 
@@ -32,29 +39,37 @@ struct LayoutTMesh {
   /// The cell size used: the one asked for, halved as often as segments too short for a whole
   /// cell needed.
   double cellSize = 0.0;
-  /// Cells along each layout segment, and per rectangle its cells along x and y.
+  /// Cells along each layout segment (0: collapsed), and per rectangle its cells along x and y.
   std::vector<int> segmentCells;
   std::vector<std::array<int, 2>> rectangleCells;
-  /// T-mesh face of cell (i, j) of rectangle r: firstCell[r] + j * cells along x + i.
+  /// T-mesh face of cell (i, j) of rectangle r: firstCell[r] + j * cells along x + i; -1 for a
+  /// collapsed rectangle (no cells along x or y).
   std::vector<int> firstCell;
+  /// Per collapsed rectangle (empty for the others), per cell along the side it kept: the T-mesh
+  /// points at that cell side's two ends, in one face. A 0 x 0 rectangle keeps one point.
+  std::vector<std::vector<std::array<FacePoint, 2>>> collapsedSteps;
+  /// Segments given no cell, and rectangles left without area.
+  int collapsedSegments = 0;
+  int collapsedRectangles = 0;
   /// max over segments of |cells - length / cellSize|.
   double maxRoundingError = 0.0;
   /// max over rectangles of the ratio of its two scale factors (cells per flat length along x
-  /// and along y), >= 1: how far from square the cells are on the surface.
+  /// and along y), >= 1, over the rectangles with cells: how far from square the cells are on the
+  /// surface.
   double maxAnisotropy = 1.0;
   /// Rounding rounds, all attempts together.
   int roundingRounds = 0;
 };
 
-/// Segments too short for a whole cell at the asked cell size make it halve (at most twice); a
-/// rectangle whose cells would repeat a vertex gets at least two cells along its segments. Throws
-/// SolverError when no valid grid is found.
+/// Segments too short for a whole cell at the asked cell size collapse (above) or make it halve
+/// (at most twice); a rectangle whose cells would repeat a vertex gets at least two cells along its
+/// segments. Throws SolverError when no valid grid is found.
 LayoutTMesh layoutTMesh(const structure::MotorcycleLayout& layout,
                         const LayoutTMeshOptions& options = {});
 
 /// The point of the T-mesh at a point of the layout: the rectangle rescaled to its cells, the
 /// sides piecewise linearly through their nodes, the inside blended between opposite sides
-/// (continuous across rectangles).
+/// (continuous across rectangles); a point of a collapsed rectangle goes to the side it kept.
 FacePoint layoutPoint(const structure::MotorcycleLayout& layout, const LayoutTMesh& grid,
                       const structure::RectanglePoint& point);
 

@@ -123,7 +123,12 @@ struct MotorcycleLayout::Data {
     int piece = -1;
     double w = 0.0;
   };
-  std::optional<RectanglePoint> walk(int f, Eigen::Vector2d p, Eigen::Vector2d direction) const;
+  // Where a walk met the first trace, and how far it went.
+  struct WalkEnd {
+    RectanglePoint point;
+    double depth = 0.0;
+  };
+  std::optional<WalkEnd> walk(int f, Eigen::Vector2d p, Eigen::Vector2d direction) const;
 
   Hit firstPiece(int f, const Eigen::Vector2d& p, const Eigen::Vector2d& d, double limit) const {
     Hit hit;
@@ -476,8 +481,8 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
 
 // Walks from p in face f along `direction` to the first trace: the rectangle point there, or
 // nothing when the walk loses its way (a sliver face) or meets no trace.
-std::optional<RectanglePoint> MotorcycleLayout::Data::walk(int f, Eigen::Vector2d p,
-                                                           Eigen::Vector2d direction) const {
+std::optional<MotorcycleLayout::Data::WalkEnd> MotorcycleLayout::Data::walk(
+    int f, Eigen::Vector2d p, Eigen::Vector2d direction) const {
   const Data& d = *this;
   double travelled = 0.0;
   // The distance bound ends every walk that moves; crossings without moving (through a vertex)
@@ -522,7 +527,7 @@ std::optional<RectanglePoint> MotorcycleLayout::Data::walk(int f, Eigen::Vector2
       }
       point.position =
           point.position.cwiseMax(Eigen::Vector2d::Zero()).cwiseMin(Eigen::Vector2d(w, h));
-      return point;
+      return WalkEnd{point, depth};
     }
     const double step = (exit.point - p).norm();
     travelled += step;
@@ -540,23 +545,21 @@ RectanglePoint MotorcycleLayout::locate(int face, const Eigen::Vector3d& barycen
   if (face < 0 || face >= int(d.faces.size()))
     throw InputError("motorcycle layout: face " + std::to_string(face) + " out of range");
   const FaceGeometry& start = d.faces[std::size_t(face)];
-  // A hair (1e-6 of the face) inside, walking along the axis directions, the one closest to the
-  // face's centre first: a walk from a corner or a side then leaves the face forwards.
+  // A hair (1e-6 of the face) inside, walking along the four axis directions. The shortest walk
+  // is kept: in exact arithmetic every walk ends on the point's rectangle, but a long one can
+  // step past a trace that runs within rounding of the point (the slivers between nearly
+  // coincident traces: ellipsoid.off's equator landed 20% of the diagonal away).
   const Eigen::Vector3d b = (1.0 - 1e-6) * barycentric + Eigen::Vector3d::Constant(1e-6 / 3.0);
   const Eigen::Vector2d p =
       b[0] * start.corner[0] + b[1] * start.corner[1] + b[2] * start.corner[2];
-  const Eigen::Vector2d towardsCentre =
-      (start.corner[0] + start.corner[1] + start.corner[2]) / 3.0 - p;
-  std::vector<std::pair<double, Eigen::Vector2d>> axes;
+  std::optional<Data::WalkEnd> nearest;
   for (int k = 0; k < 4; ++k) {
     const Eigen::Vector2d axis(std::cos(start.frame + k * kQuarter),
                                std::sin(start.frame + k * kQuarter));
-    axes.emplace_back(-axis.dot(towardsCentre), axis);
+    const auto end = d.walk(face, p, axis);
+    if (end && (!nearest || end->depth < nearest->depth)) nearest = end;
   }
-  std::sort(axes.begin(), axes.end(),
-            [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (const auto& [order, axis] : axes)
-    if (const auto point = d.walk(face, p, axis)) return *point;
+  if (nearest) return nearest->point;
   throw SolverError("motorcycle layout: no walk from face " + std::to_string(face) +
                     " reaches a trace");
 }

@@ -7,8 +7,10 @@
 #include "mspline/spline/tspline/tspline.h"
 #include "mspline/spline/tspline/tspline_check.h"
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/flatten/flatten_surface.h"
 #include "mspline/structure/layout/motorcycle_layout.h"
 #include "support/flat_metric.h"
+#include "support/test_data.h"
 
 using namespace mspline;
 
@@ -53,7 +55,9 @@ TEST_CASE("layout_tmesh: a seamless quad mesh with the cones as its only extraor
       CHECK(a == b);
       CHECK(a == grid.rectangleCells[r][std::size_t(pair)]);
     }
-  for (int cells : grid.segmentCells) CHECK(cells >= 1);
+  // A segment gets no cell only when shorter than a tenth of a cell.
+  for (std::size_t e = 0; e < grid.segmentCells.size(); ++e)
+    if (grid.segmentCells[e] == 0) CHECK(layout.segments()[e].length() < 0.1 * grid.cellSize);
   CHECK(grid.maxRoundingError < 3.0);
 }
 
@@ -106,6 +110,95 @@ TEST_CASE("layout_tmesh: the T-spline on it is seamless, with caps at the cones"
   CHECK(check.awaySamples > 1500);
   CHECK(check.holeSamples == 0);
   CHECK(check.minDenominator > 0.0);
+}
+
+TEST_CASE("layout_tmesh: rectangles thinner than a tenth of a cell collapse, cones stay apart",
+          "[spline]") {
+  // libcgal-demo's ellipsoid gets four cones of angle pi at the tips of its two longer axes; by
+  // symmetry, traces from opposite cones run almost on top of each other, with slivers of
+  // rectangles between them.
+  structure::FlattenOptions flattenOptions;
+  flattenOptions.quantize = true;
+  flattenOptions.maxConeQuarterTurns = 2;
+  const structure::TriMesh ellipsoid = test::realMesh("ellipsoid.off");
+  const structure::Flattening flat = structure::flattenSurface(ellipsoid, flattenOptions);
+  REQUIRE(flat.converged);
+  REQUIRE(flat.layout.cones.size() == 4);
+  const structure::MotorcycleLayout layout(flat.surface(), flat.flatLengths);
+  double area = 0.0, thinnest = INFINITY;
+  for (const auto& r : layout.rectangles()) {
+    area += r.width() * r.height();
+    thinnest = std::min({thinnest, r.width(), r.height()});
+  }
+  spline::LayoutTMeshOptions options;
+  options.cellSize = std::sqrt(area / 2000.0);
+  // The sliver: far thinner than a cell (a whole cell across it made cells thousands of times
+  // longer than wide).
+  REQUIRE(thinnest < 0.1 * options.cellSize);
+  const spline::LayoutTMesh grid = spline::layoutTMesh(layout, options);
+  CHECK(grid.collapsedRectangles > 0);
+  CHECK(grid.collapsedSegments > 0);
+  CHECK(grid.maxAnisotropy < 1.5);
+  CHECK(grid.maxRoundingError <= 1.0);
+  const spline::TMesh& mesh = grid.mesh;
+  long edges = 0;
+  for (const auto& face : mesh.faces) {
+    CHECK(face.width == 1.0);
+    CHECK(face.height == 1.0);
+    edges += long(face.vertices.size());
+  }
+  CHECK(mesh.numVertices - edges / 2 + mesh.numFaces() == 2);
+  // The four cones kept apart, each of valence 2; what else the collapse joined is regular or
+  // extraordinary of valence at least 3.
+  int cones = 0;
+  for (int v = 0; v < mesh.numVertices; ++v) {
+    CHECK(mesh.quarterTurnsAround[v] >= 2);
+    cones += mesh.quarterTurnsAround[v] == 2;
+  }
+  CHECK(cones == 4);
+  for (std::size_t r = 0; r < layout.rectangles().size(); ++r) {
+    const auto [cellsX, cellsY] = grid.rectangleCells[r];
+    CHECK((grid.firstCell[r] < 0) == (cellsX == 0 || cellsY == 0));
+  }
+  // Every surface point lands in a cell.
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int s = 0; s < 4000; ++s) {
+    const int face = int(random() % flat.surface().n_faces());
+    const double a = unit(random), b = unit(random) * (1.0 - a);
+    const structure::RectanglePoint point = layout.locate(face, Eigen::Vector3d(1.0 - a - b, a, b));
+    const spline::FacePoint cell = spline::layoutPoint(layout, grid, point);
+    REQUIRE(cell.face >= 0);
+    REQUIRE(cell.face < mesh.numFaces());
+    CHECK(cell.position.minCoeff() >= 0.0);
+    CHECK(cell.position.maxCoeff() <= 1.0);
+  }
+  // Points of a collapsed rectangle land on the cell sides it was glued into.
+  for (std::size_t r = 0; r < layout.rectangles().size(); ++r) {
+    if (grid.firstCell[r] >= 0) continue;
+    const auto& rect = layout.rectangles()[r];
+    for (double t : {0.0, 0.3, 0.5, 0.9, 1.0}) {
+      structure::RectanglePoint point;
+      point.rectangle = int(r);
+      point.position = {t * rect.width(), (1.0 - t) * rect.height()};
+      const spline::FacePoint cell = spline::layoutPoint(layout, grid, point);
+      REQUIRE(cell.face >= 0);
+      const Eigen::Vector2d x = cell.position;
+      CHECK(std::min({x.x(), 1.0 - x.x(), x.y(), 1.0 - x.y()}) < 1e-12);
+      CHECK(x.minCoeff() >= 0.0);
+      CHECK(x.maxCoeff() <= 1.0);
+    }
+  }
+  // The T-spline on it is seamless.
+  const spline::TSplineSpace space(mesh);
+  CHECK(space.missingAnchors().empty());
+  Eigen::MatrixXd control(space.numBasis(), 3);
+  for (Eigen::Index i = 0; i < control.size(); ++i) control.data()[i] = double(random() % 1000);
+  spline::TSplineCheckOptions checkOptions;
+  checkOptions.samples = 3000;
+  const auto check = spline::checkTSpline(space, control, {}, checkOptions);
+  CHECK(check.chartDiscrepancy <= 1e-14);
+  CHECK(check.partitionOfUnityErrorAway <= 1e-13);
 }
 
 TEST_CASE("layout_tmesh: a bad cell size is refused", "[spline]") {

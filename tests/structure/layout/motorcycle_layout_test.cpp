@@ -6,8 +6,10 @@
 
 #include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/flatten/flatten_surface.h"
 #include "mspline/structure/layout/motorcycle_layout.h"
 #include "support/flat_metric.h"
+#include "support/test_data.h"
 #include "support/test_meshes.h"
 
 using namespace mspline;
@@ -55,6 +57,44 @@ TEST_CASE("motorcycle_layout: eight cones cut a sphere into rectangles", "[struc
   }
 }
 
+namespace {
+
+// Points of `face` at barycentric p and p + delta (summing to 0), located: positions inside their
+// rectangles, and at the two points' flat distance when in the same rectangle (the rectangles
+// are isometric charts). Returns whether they were in the same rectangle.
+bool checkLocateIsometry(const test::FlatMetric& flat, const MotorcycleLayout& layout, int face,
+                         const Eigen::Vector3d& p,
+                         const Eigen::Vector3d& delta = Eigen::Vector3d(-1e-3, 1e-3, 0.0)) {
+  const Eigen::Vector3d q = p + delta;
+  const auto here = layout.locate(face, p), there = layout.locate(face, q);
+  const auto& r = layout.rectangles()[std::size_t(here.rectangle)];
+  CHECK(here.position.x() >= 0.0);
+  CHECK(here.position.y() >= 0.0);
+  CHECK(here.position.x() <= r.width());
+  CHECK(here.position.y() <= r.height());
+  if (here.rectangle != there.rectangle) return false;
+  // The flat distance of the two points, from the face's side lengths.
+  const auto f = flat.surface.face_handle(face);
+  std::array<double, 3> l{};
+  auto h = flat.surface.halfedge_handle(f);
+  for (int k = 0; k < 3; ++k, h = flat.surface.next_halfedge_handle(h))
+    l[std::size_t(k)] =
+        flat.lengths[flat.surface.edge_handle(flat.surface.next_halfedge_handle(h)).idx()];
+  // Barycentric difference (d0, d1, d2) summing to zero: |x|^2 = -sum_{i<j} d_i d_j l_ij^2,
+  // l_ij the side between corners i and j (corner k is the to-vertex of halfedge k).
+  const double l01 = l[0], l12 = l[1], l20 = l[2];
+  const double distance =
+      std::sqrt(-(delta[0] * delta[1] * l01 * l01 + delta[1] * delta[2] * l12 * l12 +
+                  delta[2] * delta[0] * l20 * l20));
+  // (The walk starts 1e-6 of the face inside it, which scales differences by 1 - 1e-6; positions
+  // are clamped into their rectangle: slivers 1e-8 wide move them by that much.)
+  CHECK((there.position - here.position).norm() ==
+        Approx(distance).epsilon(3e-6).margin(1e-8 * layout.longestTrace()));
+  return true;
+}
+
+}  // namespace
+
 TEST_CASE("motorcycle_layout: locating is an isometry into the rectangles", "[structure]") {
   const test::FlatMetric flat = test::eightConeSphere();
   const MotorcycleLayout layout(flat.surface, flat.lengths);
@@ -64,34 +104,42 @@ TEST_CASE("motorcycle_layout: locating is an isometry into the rectangles", "[st
   for (int s = 0; s < 300; ++s) {
     const int face = int(random() % flat.surface.n_faces());
     double a = unit(random), b = unit(random) * (1.0 - a);
-    const Eigen::Vector3d p(1.0 - a - b, a, b);
-    const Eigen::Vector3d q = p + Eigen::Vector3d(-1e-3, 1e-3, 0.0);
-    const auto here = layout.locate(face, p), there = layout.locate(face, q);
-    const auto& r = layout.rectangles()[std::size_t(here.rectangle)];
-    CHECK(here.position.x() >= 0.0);
-    CHECK(here.position.y() >= 0.0);
-    CHECK(here.position.x() <= r.width());
-    CHECK(here.position.y() <= r.height());
-    if (here.rectangle != there.rectangle) continue;
-    ++sameRectangle;
-    // The flat distance of the two points, from the face's side lengths.
-    const auto f = flat.surface.face_handle(face);
-    std::array<double, 3> l{};
-    auto h = flat.surface.halfedge_handle(f);
-    for (int k = 0; k < 3; ++k, h = flat.surface.next_halfedge_handle(h))
-      l[std::size_t(k)] =
-          flat.lengths[flat.surface.edge_handle(flat.surface.next_halfedge_handle(h)).idx()];
-    // Barycentric difference (d0, d1, d2) summing to zero: |x|^2 = -sum_{i<j} d_i d_j l_ij^2,
-    // l_ij the side between corners i and j (corner k is the to-vertex of halfedge k).
-    const Eigen::Vector3d delta = q - p;
-    const double l01 = l[0], l12 = l[1], l20 = l[2];
-    const double distance =
-        std::sqrt(-(delta[0] * delta[1] * l01 * l01 + delta[1] * delta[2] * l12 * l12 +
-                    delta[2] * delta[0] * l20 * l20));
-    // (The walk starts 1e-6 of the face inside it, which scales differences by 1 - 1e-6.)
-    CHECK((there.position - here.position).norm() == Approx(distance).epsilon(3e-6));
+    sameRectangle += checkLocateIsometry(flat, layout, face, Eigen::Vector3d(1.0 - a - b, a, b));
   }
   CHECK(sameRectangle > 250);
+}
+
+TEST_CASE("motorcycle_layout: points between nearly coincident traces are located between them",
+          "[structure]") {
+  // libcgal-demo's ellipsoid with four cones of angle pi at the tips of its two longer axes: by
+  // symmetry, traces from opposite cones run within 1e-8 of each other along the equator. A walk
+  // across such a sliver stepped past its far trace and ended on another rectangle far away.
+  // Points on the equator stay on it when they move symmetrically in the corners off it.
+  structure::FlattenOptions options;
+  options.quantize = true;
+  options.maxConeQuarterTurns = 2;
+  const structure::TriMesh ellipsoid = test::realMesh("ellipsoid.off");
+  const structure::Flattening flattening = structure::flattenSurface(ellipsoid, options);
+  REQUIRE(flattening.converged);
+  const test::FlatMetric flat{flattening.surface(), flattening.flatLengths};
+  const MotorcycleLayout layout(flat.surface, flat.lengths);
+  double thinnest = INFINITY;
+  for (const auto& r : layout.rectangles()) thinnest = std::min({thinnest, r.width(), r.height()});
+  REQUIRE(thinnest < 1e-6);
+  int sameRectangle = 0, pairs = 0;
+  for (int face = 0; face < int(flat.surface.n_faces()); ++face)
+    for (int i = 1; i < 9; ++i)
+      for (int j = 1; i + j < 10; ++j) {
+        const double a = 0.1 * i, b = 0.1 * j;
+        const Eigen::Vector3d p(1.0 - a - b, a, b);
+        for (int corner = 0; corner < 3; ++corner) {
+          Eigen::Vector3d delta = Eigen::Vector3d::Constant(-5e-4);
+          delta[corner] = 1e-3;
+          sameRectangle += checkLocateIsometry(flat, layout, face, p, delta);
+          ++pairs;
+        }
+      }
+  CHECK(sameRectangle > pairs * 9 / 10);
 }
 
 TEST_CASE("motorcycle_layout: metrics it cannot lay out are refused", "[structure]") {
