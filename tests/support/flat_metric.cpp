@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include "mspline/structure/core/constants.h"
+#include "mspline/structure/flatten/flatten_surface.h"
 #include "mspline/structure/intrinsic/intrinsic_flattening.h"
 #include "mspline/structure/ricci/ricci_newton.h"
 #include "support/test_meshes.h"
@@ -18,6 +19,15 @@ FlatMetric flatMetric(const structure::TriMesh& mesh, const std::vector<structur
   const auto flipped = structure::flattenWithFlips(mesh, target, options);
   REQUIRE(flipped.solve.ricci.converged);
   return {flipped.overlay.mesh, flipped.overlay.edgeLengths};
+}
+
+FlatMetric seamlessFlatMetric(const structure::TriMesh& mesh) {
+  structure::FlattenOptions options;
+  options.quantize = true;
+  options.maxConeQuarterTurns = 2;
+  const structure::Flattening flattening = structure::flattenSurface(mesh, options);
+  REQUIRE(flattening.converged);
+  return {flattening.surface(), flattening.flatLengths};
 }
 
 FlatMetric eightConeSphere() {

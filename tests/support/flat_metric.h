@@ -21,6 +21,10 @@ struct FlatMetric {
 /// converge.
 FlatMetric flatMetric(const structure::TriMesh& mesh, const std::vector<structure::Cone>& cones);
 
+/// The flat metric `fit` lays quad grids out on: cones placed automatically and quantized to
+/// quarter turns, every cone angle at least pi; fails the running test when it does not converge.
+FlatMetric seamlessFlatMetric(const structure::TriMesh& mesh);
+
 /// An icosphere(3) made flat but for eight cones of curvature pi/2 (angle 3 pi / 2) at scattered
 /// vertices: quarter-turn cones in general position (no trace of a rectangle layout runs into a
 /// cone).

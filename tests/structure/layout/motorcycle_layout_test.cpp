@@ -6,7 +6,6 @@
 
 #include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
-#include "mspline/structure/flatten/flatten_surface.h"
 #include "mspline/structure/layout/motorcycle_layout.h"
 #include "support/flat_metric.h"
 #include "support/test_data.h"
@@ -115,13 +114,7 @@ TEST_CASE("motorcycle_layout: points between nearly coincident traces are locate
   // symmetry, traces from opposite cones run within 1e-8 of each other along the equator. A walk
   // across such a sliver stepped past its far trace and ended on another rectangle far away.
   // Points on the equator stay on it when they move symmetrically in the corners off it.
-  structure::FlattenOptions options;
-  options.quantize = true;
-  options.maxConeQuarterTurns = 2;
-  const structure::TriMesh ellipsoid = test::realMesh("ellipsoid.off");
-  const structure::Flattening flattening = structure::flattenSurface(ellipsoid, options);
-  REQUIRE(flattening.converged);
-  const test::FlatMetric flat{flattening.surface(), flattening.flatLengths};
+  const test::FlatMetric flat = test::seamlessFlatMetric(test::realMesh("ellipsoid.off"));
   const MotorcycleLayout layout(flat.surface, flat.lengths);
   double thinnest = INFINITY;
   for (const auto& r : layout.rectangles()) thinnest = std::min({thinnest, r.width(), r.height()});
