@@ -343,6 +343,8 @@ AssemblyFailure assembleCells(const MotorcycleLayout& layout, LayoutTMesh& grid)
     throw structure::SolverError(std::string("layout T-mesh: the grid does not close up: ") +
                                  error.what());
   }
+  grid.collapsedSteps.assign(rectangles.size(), {});
+  if (grid.collapsedRectangles == 0) return failure;
   // Where the points of collapsed rectangles go: the cell sides of the side they kept.
   std::map<std::pair<int, int>, FacePoint> edgeStart;
   std::vector<FacePoint> atVertex(static_cast<std::size_t>(count));
@@ -369,7 +371,6 @@ AssemblyFailure assembleCells(const MotorcycleLayout& layout, LayoutTMesh& grid)
     // Both neighbours across collapsed too: the points of the step share its start.
     return {atVertex[std::size_t(from)], atVertex[std::size_t(from)]};
   };
-  grid.collapsedSteps.assign(rectangles.size(), {});
   for (std::size_t r = 0; r < rectangles.size(); ++r) {
     const auto [cellsX, cellsY] = grid.rectangleCells[r];
     auto& steps = grid.collapsedSteps[r];
