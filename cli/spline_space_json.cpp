@@ -14,6 +14,8 @@ Json gridJson(const spline::GridFigures& grid) {
           {"max_rounding_error", grid.maxRoundingError},
           {"collapsed_segments", grid.collapsedSegments},
           {"collapsed_rectangles", grid.collapsedRectangles},
+          {"quantization",
+           {{"optimal", grid.quantizationOptimal}, {"seconds", grid.quantizationSeconds}}},
           {"anisotropy", grid.anisotropy}};
 }
 

@@ -11,3 +11,4 @@ find_package(TBB REQUIRED)
 include(OpenSubdiv)
 
 include(Cholmod)
+include(Glpk)

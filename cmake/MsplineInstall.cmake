@@ -38,10 +38,11 @@ configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/msplineConfig.cmake.in
                               INSTALL_DESTINATION ${MSPLINE_CMAKE_DIR})
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/msplineConfigVersion.cmake
                                  COMPATIBILITY SameMajorVersion)
-# The config re-creates the wrapper targets of CHOLMOD and OpenSubdiv with the same files the
+# The config re-creates the wrapper targets of CHOLMOD, GLPK and OpenSubdiv with the same files the
 # build uses.
 install(FILES ${PROJECT_BINARY_DIR}/msplineConfig.cmake ${PROJECT_BINARY_DIR}/msplineConfigVersion.cmake
-              ${PROJECT_SOURCE_DIR}/cmake/Cholmod.cmake ${PROJECT_SOURCE_DIR}/cmake/OpenSubdiv.cmake
+              ${PROJECT_SOURCE_DIR}/cmake/Cholmod.cmake ${PROJECT_SOURCE_DIR}/cmake/Glpk.cmake
+              ${PROJECT_SOURCE_DIR}/cmake/OpenSubdiv.cmake
         DESTINATION ${MSPLINE_CMAKE_DIR})
 
 install(FILES ${PROJECT_SOURCE_DIR}/LICENSE DESTINATION ${CMAKE_INSTALL_DOCDIR})

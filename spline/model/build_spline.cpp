@@ -109,6 +109,8 @@ void buildTSpline(const BuildSplineOptions& s, const Flattening& flattening,
     setup.grid.maxRoundingError = quads->maxRoundingError;
     setup.grid.collapsedSegments = quads->collapsedSegments;
     setup.grid.collapsedRectangles = quads->collapsedRectangles;
+    setup.grid.quantizationOptimal = quads->quantizationOptimal;
+    setup.grid.quantizationSeconds = quads->quantizationSeconds;
     setup.grid.anisotropy = quads->maxAnisotropy;
   }
   addStageSeconds(setup.stageSeconds, "grid", clock.lap());

@@ -5,82 +5,19 @@
 #include <map>
 #include <string>
 
-#include <Eigen/Dense>
+#include <Eigen/Core>
 
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/layout/quantize_segments.h"
 
 namespace mspline::spline {
 
 using structure::LayoutRectangle;
 using structure::MotorcycleLayout;
+using structure::Quantization;
+using structure::QuantizeOptions;
 
 namespace {
-
-// A basis of the integer solutions of A x = 0 (the columns of the result), by unimodular column
-// operations (extended Euclid, column by column, as for a Hermite normal form): A U = [H 0], and
-// the columns of U past H's rank span the lattice. Integer lengths combined from this basis satisfy
-// every rectangle's constraint by construction, whatever parities the constraints impose.
-Eigen::MatrixXd integerKernel(const Eigen::MatrixXd& constraints) {
-  const Eigen::Index m = constraints.rows(), n = constraints.cols();
-  std::vector<std::vector<long long>> a(static_cast<std::size_t>(m),
-                                        std::vector<long long>(static_cast<std::size_t>(n)));
-  for (Eigen::Index i = 0; i < m; ++i)
-    for (Eigen::Index j = 0; j < n; ++j)
-      a[std::size_t(i)][std::size_t(j)] = std::llround(constraints(i, j));
-  std::vector<std::vector<long long>> u(static_cast<std::size_t>(n),
-                                        std::vector<long long>(static_cast<std::size_t>(n), 0));
-  for (Eigen::Index j = 0; j < n; ++j) u[std::size_t(j)][std::size_t(j)] = 1;
-  // Column operation: column c += factor * column d, on A and U alike.
-  const auto addColumn = [&](std::size_t c, std::size_t d, long long factor) {
-    for (auto& row : a) row[c] += factor * row[d];
-    for (auto& row : u) row[c] += factor * row[d];
-  };
-  const auto swapColumns = [&](std::size_t c, std::size_t d) {
-    for (auto& row : a) std::swap(row[c], row[d]);
-    for (auto& row : u) std::swap(row[c], row[d]);
-  };
-  std::size_t pivot = 0;
-  for (std::size_t i = 0; i < std::size_t(m) && pivot < std::size_t(n); ++i) {
-    for (std::size_t j = pivot + 1; j < std::size_t(n); ++j)
-      while (a[i][j] != 0) {
-        if (a[i][pivot] == 0 || std::llabs(a[i][j]) < std::llabs(a[i][pivot]))
-          swapColumns(pivot, j);
-        if (a[i][j] != 0) addColumn(j, pivot, -(a[i][j] / a[i][pivot]));
-      }
-    if (a[i][pivot] != 0) ++pivot;
-  }
-  Eigen::MatrixXd kernel(n, n - Eigen::Index(pivot));
-  for (Eigen::Index j = Eigen::Index(pivot); j < n; ++j)
-    for (Eigen::Index r = 0; r < n; ++r)
-      kernel(r, j - Eigen::Index(pivot)) = double(u[std::size_t(r)][std::size_t(j)]);
-  return kernel;
-}
-
-// The real coefficients z of the kernel basis closest (weighted least squares) to `target`, the
-// fixed ones held.
-Eigen::VectorXd closestCoefficients(const Eigen::MatrixXd& kernel, const Eigen::VectorXd& target,
-                                    const Eigen::VectorXd& weight, const Eigen::VectorXd& z,
-                                    const std::vector<char>& fixed) {
-  std::vector<Eigen::Index> freeIndex;
-  Eigen::VectorXd rest = target;
-  for (Eigen::Index k = 0; k < kernel.cols(); ++k) {
-    if (fixed[std::size_t(k)])
-      rest -= kernel.col(k) * z[k];
-    else
-      freeIndex.push_back(k);
-  }
-  Eigen::VectorXd result = z;
-  if (freeIndex.empty()) return result;
-  Eigen::MatrixXd a(kernel.rows(), Eigen::Index(freeIndex.size()));
-  for (std::size_t k = 0; k < freeIndex.size(); ++k)
-    a.col(Eigen::Index(k)) = kernel.col(freeIndex[k]);
-  const Eigen::VectorXd w = weight.cwiseSqrt();
-  const Eigen::VectorXd solution =
-      (w.asDiagonal() * a).colPivHouseholderQr().solve(w.asDiagonal() * rest);
-  for (std::size_t k = 0; k < freeIndex.size(); ++k)
-    result[freeIndex[k]] = solution[Eigen::Index(k)];
-  return result;
-}
 
 // Cells and flat lengths summed along a side, per half-edge boundary.
 struct SideScale {
@@ -105,74 +42,6 @@ SideScale sideScale(const MotorcycleLayout& layout, const std::vector<int>& segm
     scale.cells.push_back(scale.cells.back() + segmentCells[std::size_t(he / 2)]);
   }
   return scale;
-}
-
-// Whole cells per segment: the integer solution of the rectangles' constraints closest to
-// `target`, every segment at least `minimum` cells; empty when the rounding cannot give that.
-Eigen::VectorXd roundCells(const Eigen::MatrixXd& constraints, const Eigen::MatrixXd& kernel,
-                           Eigen::VectorXd target, const Eigen::VectorXd& minimum, int& rounds) {
-  const Eigen::Index n = target.size();
-  // The kernel coefficients closest to whole numbers are fixed first, a batch per round, the rest
-  // re-solved. A segment below its minimum is pulled up (its weight raised) and the rounding
-  // redone.
-  Eigen::VectorXd weight = Eigen::VectorXd::Ones(n);
-  for (int attempt = 0; attempt < 20; ++attempt) {
-    std::vector<char> fixed(std::size_t(kernel.cols()), 0);
-    Eigen::VectorXd z =
-        closestCoefficients(kernel, target, weight, Eigen::VectorXd::Zero(kernel.cols()), fixed);
-    for (Eigen::Index remaining = kernel.cols(); remaining > 0;) {
-      ++rounds;
-      std::vector<std::pair<double, Eigen::Index>> order;
-      for (Eigen::Index k = 0; k < kernel.cols(); ++k)
-        if (!fixed[std::size_t(k)]) order.emplace_back(std::abs(z[k] - std::round(z[k])), k);
-      std::sort(order.begin(), order.end());
-      const std::size_t count = std::max<std::size_t>(1, order.size() / 8);
-      for (std::size_t i = 0; i < count; ++i) {
-        z[order[i].second] = std::round(z[order[i].second]);
-        fixed[std::size_t(order[i].second)] = 1;
-      }
-      remaining -= Eigen::Index(count);
-      z = closestCoefficients(kernel, target, weight, z, fixed);
-    }
-    Eigen::VectorXd values = kernel * z;
-    // Local repair: steps of one cell along lattice basis vectors with entries -1, 0, 1 (strips of
-    // cells added or removed) that lower the total shortfall.
-    const auto shortfall = [&](const Eigen::VectorXd& x) {
-      return (minimum - x).cwiseMax(0.0).sum();
-    };
-    for (int step = 0; step < 200 && shortfall(values) > 0.5; ++step) {
-      double best = shortfall(values), bestDeviation = INFINITY;
-      Eigen::VectorXd bestValues;
-      for (Eigen::Index k = 0; k < kernel.cols(); ++k)
-        for (double sign : {1.0, -1.0}) {
-          if (kernel.col(k).cwiseAbs().maxCoeff() > 1.0) continue;  // small moves only
-          const Eigen::VectorXd trial = values + sign * kernel.col(k);
-          const double s = shortfall(trial);
-          const double deviation = (weight.cwiseSqrt().asDiagonal() * (trial - target)).norm();
-          if (s < best - 0.5 ||
-              (s < best + 0.5 && s < shortfall(values) - 0.5 && deviation < bestDeviation)) {
-            best = s;
-            bestDeviation = deviation;
-            bestValues = trial;
-          }
-        }
-      if (bestValues.size() == 0) break;
-      values = bestValues;
-    }
-    bool tooShort = false;
-    for (Eigen::Index e = 0; e < n; ++e)
-      if (values[e] < minimum[e] - 0.5) {
-        tooShort = true;
-        weight[e] *= 10.0;
-        target[e] = std::max(target[e], minimum[e]);
-      }
-    if (!tooShort) {
-      if ((constraints * values).cwiseAbs().maxCoeff() > 0.5)
-        throw structure::InternalError("layout T-mesh: rounded cells break a rectangle");
-      return values;
-    }
-  }
-  return {};
 }
 
 // A segment shorter than this many cells may collapse. The points of a collapsed rectangle are
@@ -393,49 +262,33 @@ LayoutTMesh layoutTMesh(const MotorcycleLayout& layout, const LayoutTMeshOptions
   const auto& rectangles = layout.rectangles();
   if (!(options.cellSize > 0.0))
     throw structure::InputError("layout T-mesh: cell size must be positive");
-  const Eigen::Index n = Eigen::Index(segments.size());
-  Eigen::MatrixXd constraints = Eigen::MatrixXd::Zero(Eigen::Index(2 * rectangles.size()), n);
-  for (std::size_t r = 0; r < rectangles.size(); ++r)
-    for (int pair = 0; pair < 2; ++pair) {
-      for (int he : rectangles[r].sides[std::size_t(pair)])
-        constraints(Eigen::Index(2 * r + pair), he / 2) += 1.0;
-      for (int he : rectangles[r].sides[std::size_t(pair + 2)])
-        constraints(Eigen::Index(2 * r + pair), he / 2) -= 1.0;
-    }
-  const Eigen::MatrixXd kernel = integerKernel(constraints);
+  const std::size_t n = segments.size();
   // A segment from a node back to itself needs two cells, or its cells would repeat the node;
   // other segments need one, or none when shorter than kCollapseBelow cells and their collapse
   // holds.
-  Eigen::VectorXd required = Eigen::VectorXd::Ones(n);
-  std::vector<char> collapsible(std::size_t(n), 1);
-  for (Eigen::Index e = 0; e < n; ++e)
-    if (segments[std::size_t(e)].from == segments[std::size_t(e)].to) {
-      required[e] = 2.0;
-      collapsible[std::size_t(e)] = 0;
+  std::vector<int> required(n, 1);
+  std::vector<char> collapsible(n, 1);
+  for (std::size_t e = 0; e < n; ++e)
+    if (segments[e].from == segments[e].to) {
+      required[e] = 2;
+      collapsible[e] = 0;
     }
   LayoutTMesh grid;
   grid.cellSize = options.cellSize;
-  int halvings = 0;
+  QuantizeOptions quantize;
+  quantize.cellSize = options.cellSize;
+  quantize.minimumCells.resize(n);
   for (int attempt = 0; attempt < 24; ++attempt) {
-    Eigen::VectorXd target(n), minimum(n);
-    for (Eigen::Index e = 0; e < n; ++e) {
-      target[e] = segments[std::size_t(e)].length() / grid.cellSize;
-      minimum[e] = collapsible[std::size_t(e)] && target[e] < kCollapseBelow ? 0.0 : required[e];
-    }
-    const Eigen::VectorXd values =
-        roundCells(constraints, kernel, target, minimum, grid.roundingRounds);
-    if (values.size() == 0) {
-      // Segments too short for whole cells: finer cells, up to 16 times as many.
-      if (++halvings > 2) break;
-      grid.cellSize /= 2.0;
-      continue;
-    }
-    grid.segmentCells.resize(std::size_t(n));
-    grid.maxRoundingError = 0.0;
-    for (Eigen::Index e = 0; e < n; ++e) {
-      grid.segmentCells[std::size_t(e)] = int(std::lround(values[e]));
-      grid.maxRoundingError = std::max(grid.maxRoundingError, std::abs(values[e] - target[e]));
-    }
+    for (std::size_t e = 0; e < n; ++e)
+      quantize.minimumCells[e] =
+          collapsible[e] && segments[e].length() < kCollapseBelow * options.cellSize ? 0
+                                                                                     : required[e];
+    const Quantization quantization = quantizeSegments(layout, quantize);
+    ++grid.quantizations;
+    grid.quantizationSeconds += quantization.seconds;
+    grid.quantizationOptimal = quantization.optimal;
+    grid.segmentCells = quantization.segmentCells;
+    grid.maxRoundingError = quantization.maxRoundingError;
     const AssemblyFailure failure = assembleCells(layout, grid);
     if (!failure.failed()) return grid;
     for (int e : failure.uncollapse) collapsible[std::size_t(e)] = 0;
@@ -443,13 +296,12 @@ LayoutTMesh layoutTMesh(const MotorcycleLayout& layout, const LayoutTMeshOptions
     if (failure.repeatingRectangle >= 0)
       for (const auto& side : rectangles[std::size_t(failure.repeatingRectangle)].sides)
         for (int he : side) {
-          required[he / 2] = std::max(required[he / 2] + 1.0, 2.0);
+          required[std::size_t(he / 2)] = std::max(required[std::size_t(he / 2)] + 1, 2);
           collapsible[std::size_t(he / 2)] = 0;
         }
   }
-  throw structure::SolverError(
-      "layout T-mesh: no whole numbers of cells make a valid grid, down to cell size " +
-      std::to_string(grid.cellSize));
+  throw structure::SolverError("layout T-mesh: no valid grid after " +
+                               std::to_string(grid.quantizations) + " quantizations");
 }
 
 FacePoint layoutPoint(const MotorcycleLayout& layout, const LayoutTMesh& grid,

@@ -8,12 +8,11 @@
 // which makes the cubic T-spline a uniform B-spline wherever the mesh is regular (OpenSubdiv's
 // limit surface there).
 //
-// Rounding: the integer solutions of the rectangles' constraints form a lattice; its basis comes
-// from unimodular column operations (a Hermite normal form), so rounding its coefficients can never
-// break a constraint, whatever parities the quarter-turn holonomy imposes (rounding the lengths
-// one by one can get stuck at half-integers). The coefficients are rounded greedily, the free ones
-// re-solved by least squares towards length / cell size after each round (as mixed-integer
-// quadrangulation does); a segment left without its minimum is pulled up and the rounding redone.
+// Rounding: the whole numbers of cells are the exact optimum of an integer program
+// (structure/layout/quantize_segments.h): closest to length / cell size in relative terms under
+// the rectangles' constraints, so a layout whose segments are far shorter than a cell still gets a
+// grid (they get one cell each where they may not collapse), whatever parities the quarter-turn
+// holonomy imposes.
 //
 // Collapse: a segment shorter than a tenth of a cell may get no cell. Its two nodes become one
 // T-mesh vertex, and a rectangle left without cells across (two traces running that close)
@@ -36,8 +35,7 @@ struct LayoutTMeshOptions {
 
 struct LayoutTMesh {
   TMesh mesh;
-  /// The cell size used: the one asked for, halved as often as segments too short for a whole
-  /// cell needed.
+  /// The cell size asked for (the unit of segmentCells).
   double cellSize = 0.0;
   /// Cells along each layout segment (0: collapsed), and per rectangle its cells along x and y.
   std::vector<int> segmentCells;
@@ -57,13 +55,15 @@ struct LayoutTMesh {
   /// and along y), >= 1, over the rectangles with cells: how far from square the cells are on the
   /// surface.
   double maxAnisotropy = 1.0;
-  /// Rounding rounds, all attempts together.
-  int roundingRounds = 0;
+  /// Integer programs solved (one, and one more per collapse undone), their time in seconds, and
+  /// whether the last was solved to proven optimality (false: stopped by its time limit).
+  int quantizations = 0;
+  double quantizationSeconds = 0.0;
+  bool quantizationOptimal = false;
 };
 
-/// Segments too short for a whole cell at the asked cell size collapse (above) or make it halve
-/// (at most twice); a rectangle whose cells would repeat a vertex gets at least two cells along its
-/// segments. Throws SolverError when no valid grid is found.
+/// A rectangle whose cells would repeat a vertex gets at least two cells along its segments, a
+/// collapse that fails is undone. Throws SolverError when no valid grid is found.
 LayoutTMesh layoutTMesh(const structure::MotorcycleLayout& layout,
                         const LayoutTMeshOptions& options = {});
 

@@ -544,22 +544,55 @@ RectanglePoint MotorcycleLayout::locate(int face, const Eigen::Vector3d& barycen
   const Data& d = *data_;
   if (face < 0 || face >= int(d.faces.size()))
     throw InputError("motorcycle layout: face " + std::to_string(face) + " out of range");
-  const FaceGeometry& start = d.faces[std::size_t(face)];
   // A hair (1e-6 of the face) inside, walking along the four axis directions. The shortest walk
   // is kept: in exact arithmetic every walk ends on the point's rectangle, but a long one can
   // step past a trace that runs within rounding of the point (the slivers between nearly
   // coincident traces: ellipsoid.off's equator landed 20% of the diagonal away).
-  const Eigen::Vector3d b = (1.0 - 1e-6) * barycentric + Eigen::Vector3d::Constant(1e-6 / 3.0);
-  const Eigen::Vector2d p =
-      b[0] * start.corner[0] + b[1] * start.corner[1] + b[2] * start.corner[2];
-  std::optional<Data::WalkEnd> nearest;
-  for (int k = 0; k < 4; ++k) {
-    const Eigen::Vector2d axis(std::cos(start.frame + k * kQuarter),
-                               std::sin(start.frame + k * kQuarter));
-    const auto end = d.walk(face, p, axis);
-    if (end && (!nearest || end->depth < nearest->depth)) nearest = end;
+  const auto inside = [&](int f, Eigen::Vector3d b) {
+    const FaceGeometry& g = d.faces[std::size_t(f)];
+    b = b.cwiseMax(0.0);
+    b = (1.0 - 1e-6) * b / b.sum() + Eigen::Vector3d::Constant(1e-6 / 3.0);
+    return Eigen::Vector2d(b[0] * g.corner[0] + b[1] * g.corner[1] + b[2] * g.corner[2]);
+  };
+  const auto nearestWalk = [&](int f, const Eigen::Vector2d& p) {
+    std::optional<Data::WalkEnd> nearest;
+    const double frame = d.faces[std::size_t(f)].frame;
+    for (int k = 0; k < 4; ++k) {
+      const Eigen::Vector2d axis(std::cos(frame + k * kQuarter), std::sin(frame + k * kQuarter));
+      const auto end = d.walk(f, p, axis);
+      if (end && (!nearest || end->depth < nearest->depth)) nearest = end;
+    }
+    return nearest;
+  };
+  // A sliver face of an overlay (1e-11 thin) can let no walk out: then the same point from the
+  // faces across its edges that pass within a hair of it, and so on, a few faces at most.
+  std::vector<std::pair<int, Eigen::Vector2d>> queue{{face, inside(face, barycentric)}};
+  std::vector<int> visited{face};
+  for (std::size_t next = 0; next < queue.size() && next < 16; ++next) {
+    const auto [f, p] = queue[next];
+    if (const auto end = nearestWalk(f, p)) return end->point;
+    const FaceGeometry& g = d.faces[std::size_t(f)];
+    double size = 0.0;
+    for (int i = 0; i < 3; ++i) size = std::max(size, (g.corner[std::size_t(i)] - p).norm());
+    for (int i = 0; i < 3; ++i) {
+      const Eigen::Vector2d& a = g.corner[std::size_t(i)];
+      const Eigen::Vector2d e = g.corner[std::size_t((i + 1) % 3)] - a;
+      const int across = g.neighbour[std::size_t(i)];
+      if (std::abs(cross(e, p - a)) > 1e-5 * size * e.norm() ||
+          std::find(visited.begin(), visited.end(), across) != visited.end())
+        continue;
+      visited.push_back(across);
+      // The point in the neighbour's coordinates, moved a hair into it.
+      const FaceGeometry& h = d.faces[std::size_t(across)];
+      const Eigen::Vector2d q = g.across[std::size_t(i)].apply(p);
+      const Eigen::Vector2d e1 = h.corner[1] - h.corner[0], e2 = h.corner[2] - h.corner[0];
+      const double det = cross(e1, e2);
+      Eigen::Vector2d uv = Eigen::Vector2d::Constant(1.0 / 3.0);
+      if (det != 0.0)
+        uv = Eigen::Vector2d(cross(q - h.corner[0], e2), cross(e1, q - h.corner[0])) / det;
+      queue.emplace_back(across, inside(across, Eigen::Vector3d(1.0 - uv.sum(), uv[0], uv[1])));
+    }
   }
-  if (nearest) return nearest->point;
   throw SolverError("motorcycle layout: no walk from face " + std::to_string(face) +
                     " reaches a trace");
 }

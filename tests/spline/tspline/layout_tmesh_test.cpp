@@ -202,6 +202,57 @@ TEST_CASE("layout_tmesh: rectangles thinner than a tenth of a cell collapse, con
   CHECK(checkSeamless(space, 6).partitionOfUnityErrorAway <= 1e-13);
 }
 
+TEST_CASE("layout_tmesh: segments far shorter than a cell that may not collapse still get a grid",
+          "[spline]") {
+  // cow.off's cones come in tight clusters: segments between them are 1e-3 to 1e-2 of a cell and
+  // may not collapse (that would join cones). Rounding a lattice basis greedily found no whole
+  // numbers for them; the integer program always does.
+  const test::FlatMetric flat = test::seamlessFlatMetric(test::realMesh("cow.off"));
+  const structure::MotorcycleLayout layout(flat.surface, flat.lengths);
+  double area = 0.0;
+  for (const auto& r : layout.rectangles()) area += r.width() * r.height();
+  spline::LayoutTMeshOptions options;
+  options.cellSize = std::sqrt(area / 6000.0);
+  // Segments shorter than a tenth of a cell at a cone.
+  std::vector<std::size_t> shortAtCone;
+  for (std::size_t e = 0; e < layout.segments().size(); ++e) {
+    const auto& segment = layout.segments()[e];
+    if (segment.length() < 0.1 * options.cellSize &&
+        (layout.nodes()[std::size_t(segment.from)].vertex >= 0 ||
+         layout.nodes()[std::size_t(segment.to)].vertex >= 0))
+      shortAtCone.push_back(e);
+  }
+  REQUIRE(shortAtCone.size() > 3);
+  const spline::LayoutTMesh grid = spline::layoutTMesh(layout, options);
+  // Some of them kept a cell (their collapse joined two cones).
+  int kept = 0;
+  for (std::size_t e : shortAtCone) kept += grid.segmentCells[e] > 0;
+  CHECK(kept > 0);
+  CHECK(grid.quantizationOptimal);
+  for (std::size_t r = 0; r < layout.rectangles().size(); ++r)
+    for (int pair = 0; pair < 2; ++pair) {
+      int a = 0, b = 0;
+      for (int he : layout.rectangles()[r].sides[std::size_t(pair)])
+        a += grid.segmentCells[std::size_t(he / 2)];
+      for (int he : layout.rectangles()[r].sides[std::size_t(pair + 2)])
+        b += grid.segmentCells[std::size_t(he / 2)];
+      CHECK(a == b);
+    }
+  const spline::TMesh& mesh = grid.mesh;
+  long edges = 0;
+  for (const auto& face : mesh.faces) edges += long(face.vertices.size());
+  CHECK(mesh.numVertices - edges / 2 + mesh.numFaces() == 2);
+  int cones = 0;
+  for (const auto& node : layout.nodes()) cones += node.vertex >= 0;
+  int extraordinary = 0;
+  for (int v = 0; v < mesh.numVertices; ++v) extraordinary += mesh.isExtraordinary(v);
+  CHECK(extraordinary == cones);
+  for (const auto& face : mesh.faces) {
+    CHECK(face.width == 1.0);
+    CHECK(face.height == 1.0);
+  }
+}
+
 TEST_CASE("layout_tmesh: a bad cell size is refused", "[spline]") {
   const test::FlatMetric flat = test::eightConeSphere();
   const structure::MotorcycleLayout layout(flat.surface, flat.lengths);

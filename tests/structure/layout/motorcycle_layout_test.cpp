@@ -135,6 +135,43 @@ TEST_CASE("motorcycle_layout: points between nearly coincident traces are locate
   CHECK(sameRectangle > pairs * 9 / 10);
 }
 
+TEST_CASE("motorcycle_layout: points of sliver faces are located through their neighbours",
+          "[structure]") {
+  // cow.off's flattening needs intrinsic flips; faces of their common subdivision can be 1e-4 of
+  // the surface's size, where a hair inside a corner is closer to its sides than the walks
+  // resolve: such corners are located from the faces next to them.
+  const test::FlatMetric flat = test::seamlessFlatMetric(test::realMesh("cow.off"));
+  const MotorcycleLayout layout(flat.surface, flat.lengths);
+  const auto& mesh = flat.surface;
+  // Per vertex, where it is located from each face around it (face corner k is the to-vertex of
+  // the face's k-th halfedge).
+  std::vector<std::vector<structure::RectanglePoint>> located(mesh.n_vertices());
+  const double size = std::sqrt(flatArea(flat));
+  int tiny = 0;
+  for (const auto f : mesh.faces()) {
+    std::array<double, 3> l{};
+    int k = 0;
+    for (const auto e : f.edges()) l[std::size_t(k++)] = flat.lengths[e.idx()];
+    tiny += std::max({l[0], l[1], l[2]}) < 1e-4 * size;
+    auto h = mesh.halfedge_handle(f);
+    for (int corner = 0; corner < 3; ++corner, h = mesh.next_halfedge_handle(h)) {
+      Eigen::Vector3d b = Eigen::Vector3d::Zero();
+      b[corner] = 1.0;
+      located[std::size_t(mesh.to_vertex_handle(h).idx())].push_back(layout.locate(f.idx(), b));
+    }
+  }
+  REQUIRE(tiny > 0);
+  // Seen from any two faces in one rectangle, a vertex is at one place.
+  int pairs = 0;
+  for (const auto& points : located)
+    for (std::size_t i = 1; i < points.size(); ++i)
+      if (points[i].rectangle == points[0].rectangle) {
+        CHECK((points[i].position - points[0].position).norm() < 1e-4 * layout.longestTrace());
+        ++pairs;
+      }
+  CHECK(pairs > int(mesh.n_vertices()));
+}
+
 TEST_CASE("motorcycle_layout: metrics it cannot lay out are refused", "[structure]") {
   const structure::TriMesh sphere = test::icosphere(2);
   // Twelve cones of angle 5 pi / 3 (an icosahedron's): not multiples of pi/2.
