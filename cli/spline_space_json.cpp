@@ -15,7 +15,9 @@ Json gridJson(const spline::GridFigures& grid) {
           {"collapsed_segments", grid.collapsedSegments},
           {"collapsed_rectangles", grid.collapsedRectangles},
           {"quantization",
-           {{"optimal", grid.quantizationOptimal}, {"seconds", grid.quantizationSeconds}}},
+           {{"optimal", grid.quantizationOptimal},
+            {"solves", grid.quantizations},
+            {"seconds", grid.quantizationSeconds}}},
           {"anisotropy", grid.anisotropy}};
 }
 

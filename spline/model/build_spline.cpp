@@ -110,6 +110,7 @@ void buildTSpline(const BuildSplineOptions& s, const Flattening& flattening,
     setup.grid.collapsedSegments = quads->collapsedSegments;
     setup.grid.collapsedRectangles = quads->collapsedRectangles;
     setup.grid.quantizationOptimal = quads->quantizationOptimal;
+    setup.grid.quantizations = quads->quantizations;
     setup.grid.quantizationSeconds = quads->quantizationSeconds;
     setup.grid.anisotropy = quads->maxAnisotropy;
   }

@@ -65,9 +65,10 @@ struct GridFigures {
   /// Segments shorter than a tenth of a cell given none, and rectangles left without area
   /// (layout_tmesh.h: collapse).
   int collapsedSegments = 0, collapsedRectangles = 0;
-  /// The whole numbers of cells are a proven optimum (layout_tmesh.h: rounding), found in this
-  /// many seconds.
+  /// The whole numbers of cells are a proven optimum (layout_tmesh.h: rounding), found by this
+  /// many integer programs (one more per undone collapse) in this many seconds.
   bool quantizationOptimal = false;
+  int quantizations = 0;
   double quantizationSeconds = 0.0;
   /// Largest ratio of a cell's sides on the surface.
   double anisotropy = 1.0;

@@ -68,12 +68,48 @@ struct VertexClasses {
   }
 };
 
-// Why assembling the cells failed: a rectangle whose cells repeat a vertex (a cell around a
-// segment that starts and ends at one node), or collapsed segments to give a cell again.
+// Why assembling the cells failed: a rectangle whose cells repeat a vertex that no collapse
+// joined (a cell around a segment that starts and ends at one node), sets of segments that may not
+// all collapse again (each undoes a chain of joins), or collapsed segments to give a cell again.
 struct AssemblyFailure {
   int repeatingRectangle = -1;
+  std::vector<std::vector<int>> separations;
   std::vector<int> uncollapse;
-  bool failed() const { return repeatingRectangle >= 0 || !uncollapse.empty(); }
+  bool failed() const {
+    return repeatingRectangle >= 0 || !separations.empty() || !uncollapse.empty();
+  }
+};
+
+// The joins of collapsed segments and rectangles, each with the segments whose cells would undo
+// it (the segment itself, or the sides across the rectangle).
+struct Joins {
+  std::vector<std::vector<int>> undoneBy;
+  std::vector<std::vector<std::pair<int, int>>> at;  // per vertex: (other vertex, join)
+  explicit Joins(int vertices) : at(std::size_t(vertices)) {}
+  void add(int a, int b, int join) {
+    at[std::size_t(a)].emplace_back(b, join);
+    at[std::size_t(b)].emplace_back(a, join);
+  }
+  // The segments that undo one chain of joins from a to b (empty when a == b or none leads there).
+  std::vector<int> separating(int a, int b) const {
+    if (a == b) return {};
+    std::vector<std::pair<int, int>> reachedBy(at.size(), {-1, -1});
+    std::vector<int> queue{a};
+    reachedBy[std::size_t(a)] = {a, -1};
+    for (std::size_t k = 0; k < queue.size() && reachedBy[std::size_t(b)].first < 0; ++k)
+      for (const auto& [other, join] : at[std::size_t(queue[k])])
+        if (reachedBy[std::size_t(other)].first < 0) {
+          reachedBy[std::size_t(other)] = {queue[k], join};
+          queue.push_back(other);
+        }
+    std::vector<int> segments;
+    if (reachedBy[std::size_t(b)].first < 0) return segments;
+    for (int v = b; v != a; v = reachedBy[std::size_t(v)].first) {
+      const auto& undo = undoneBy[std::size_t(reachedBy[std::size_t(v)].second)];
+      segments.insert(segments.end(), undo.begin(), undo.end());
+    }
+    return segments;
+  }
 };
 
 // The cells of every rectangle, glued along the segments, collapsed segments and rectangles
@@ -128,43 +164,42 @@ AssemblyFailure assembleCells(const MotorcycleLayout& layout, LayoutTMesh& grid)
     return he % 2 == 0 ? segment.from : segment.to;
   };
   VertexClasses classes(next);
+  Joins joins(next);
+  const auto join = [&](int a, int b, int undo) {
+    classes.join(a, b);
+    joins.add(a, b, undo);
+  };
   grid.collapsedSegments = 0;
   for (std::size_t e = 0; e < segments.size(); ++e)
     if (grid.segmentCells[e] == 0) {
       ++grid.collapsedSegments;
-      classes.join(segments[e].from, segments[e].to);
+      joins.undoneBy.push_back({int(e)});
+      join(segments[e].from, segments[e].to, int(joins.undoneBy.size()) - 1);
     }
   for (std::size_t r = 0; r < rectangles.size(); ++r) {
     const auto [cellsX, cellsY] = grid.rectangleCells[r];
+    if (cellsX != 0 && cellsY != 0) continue;
+    // A cell across it (along x when it has none along x) undoes the glue.
+    std::vector<int> across;
+    for (int he : rectangles[r].sides[cellsX == 0 ? 0 : 1]) across.push_back(he / 2);
+    joins.undoneBy.push_back(across);
+    const int undo = int(joins.undoneBy.size()) - 1;
     if (cellsX == 0)
-      for (int j = 0; j <= cellsY; ++j) classes.join(onSide(r, 1, j), onSide(r, 3, cellsY - j));
-    else if (cellsY == 0)
-      for (int i = 0; i <= cellsX; ++i) classes.join(onSide(r, 0, i), onSide(r, 2, cellsX - i));
+      for (int j = 0; j <= cellsY; ++j) join(onSide(r, 1, j), onSide(r, 3, cellsY - j), undo);
+    else
+      for (int i = 0; i <= cellsX; ++i) join(onSide(r, 0, i), onSide(r, 2, cellsX - i), undo);
   }
-  // The collapsed segments in the classes `classRoots`: what to undo when those classes fail.
   AssemblyFailure failure;
-  const auto uncollapseAround = [&](const std::vector<int>& classRoots) {
-    for (std::size_t e = 0; e < segments.size(); ++e)
-      if (grid.segmentCells[e] == 0)
-        for (int root : classRoots)
-          if (classes.find(segments[e].from) == root) failure.uncollapse.push_back(int(e));
-  };
-  // Two cones joined would change the layout's structure.
-  std::vector<int> coneOfClass(std::size_t(next), -1), doubleCones;
+  // Two cones joined would change the layout's structure: the chain that joined them may not
+  // collapse again.
+  std::vector<int> coneOfClass(std::size_t(next), -1);
   for (std::size_t v = 0; v < nodes.size(); ++v) {
     if (nodes[v].vertex < 0) continue;
     int& cone = coneOfClass[std::size_t(classes.find(int(v)))];
-    if (cone >= 0) doubleCones.push_back(classes.find(int(v)));
+    if (cone >= 0) failure.separations.push_back(joins.separating(cone, int(v)));
     cone = int(v);
   }
-  if (!doubleCones.empty()) {
-    uncollapseAround(doubleCones);
-    if (failure.uncollapse.empty()) {
-      for (std::size_t e = 0; e < segments.size(); ++e)
-        if (grid.segmentCells[e] == 0) failure.uncollapse.push_back(int(e));
-    }
-    return failure;
-  }
+  if (!failure.separations.empty()) return failure;
   std::vector<TMeshFace> faces;
   grid.firstCell.assign(rectangles.size(), -1);
   for (std::size_t r = 0; r < rectangles.size(); ++r) {
@@ -184,13 +219,20 @@ AssemblyFailure assembleCells(const MotorcycleLayout& layout, LayoutTMesh& grid)
         face.vertices = {classes.find(vertexAt(i, j)), classes.find(vertexAt(i + 1, j)),
                          classes.find(vertexAt(i + 1, j + 1)), classes.find(vertexAt(i, j + 1))};
         face.positions = {{0.0, 0.0}, {1.0, 0.0}, {1.0, 1.0}, {0.0, 1.0}};
-        std::vector<int> sorted = face.vertices;
-        std::sort(sorted.begin(), sorted.end());
-        if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) {
-          uncollapseAround(sorted);
-          if (failure.uncollapse.empty()) failure.repeatingRectangle = int(r);
-          return failure;
-        }
+        // A vertex repeated in a cell: the chain of joins that made it so may not collapse again.
+        for (int a = 0; a < 4; ++a)
+          for (int b = a + 1; b < 4; ++b)
+            if (face.vertices[std::size_t(a)] == face.vertices[std::size_t(b)]) {
+              const int corner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+              const std::vector<int> chain =
+                  joins.separating(vertexAt(i + corner[a][0], j + corner[a][1]),
+                                   vertexAt(i + corner[b][0], j + corner[b][1]));
+              if (chain.empty())
+                failure.repeatingRectangle = int(r);
+              else
+                failure.separations.push_back(chain);
+              return failure;
+            }
         faces.push_back(std::move(face));
       }
   }
@@ -278,7 +320,7 @@ LayoutTMesh layoutTMesh(const MotorcycleLayout& layout, const LayoutTMeshOptions
   QuantizeOptions quantize;
   quantize.cellSize = options.cellSize;
   quantize.minimumCells.resize(n);
-  for (int attempt = 0; attempt < 24; ++attempt) {
+  for (int attempt = 0; attempt < 64; ++attempt) {
     for (std::size_t e = 0; e < n; ++e)
       quantize.minimumCells[e] =
           collapsible[e] && segments[e].length() < kCollapseBelow * options.cellSize ? 0
@@ -291,6 +333,7 @@ LayoutTMesh layoutTMesh(const MotorcycleLayout& layout, const LayoutTMeshOptions
     grid.maxRoundingError = quantization.maxRoundingError;
     const AssemblyFailure failure = assembleCells(layout, grid);
     if (!failure.failed()) return grid;
+    for (const auto& separation : failure.separations) quantize.separations.push_back(separation);
     for (int e : failure.uncollapse) collapsible[std::size_t(e)] = 0;
     // Cells of that rectangle repeat a vertex: two cells at least along each of its segments.
     if (failure.repeatingRectangle >= 0)

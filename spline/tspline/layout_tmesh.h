@@ -18,8 +18,10 @@
 // T-mesh vertex, and a rectangle left without cells across (two traces running that close)
 // has its two long sides glued together. Without this, the sliver between two nearly coincident
 // traces got a whole cell across and cells a million times longer than wide (ellipsoid). A
-// collapse that would join two cones, repeat a vertex in a cell or break the mesh is undone: its
-// segments get one cell at least and the rounding is redone.
+// collapse that joins two cones or repeats a vertex in a cell is undone where it happened: the
+// chain of collapses that joined them must get a cell somewhere (a separation constraint, as in
+// quantized global parametrization) and the integer program is solved again; a collapse that
+// breaks the mesh otherwise gives all collapsed segments a cell.
 #include <array>
 #include <vector>
 

@@ -45,7 +45,7 @@ Quantization quantizeSegments(const MotorcycleLayout& layout, const QuantizeOpti
   for (int s = 0; s < n; ++s) {
     const double t = segments[std::size_t(s)].length() / options.cellSize;
     const int minimum = options.minimumCells.empty() ? 1 : options.minimumCells[std::size_t(s)];
-    const double w = 1.0 / std::max(t, 1.0);
+    const double w = 1.0 / std::max(t, 0.01);
     target[std::size_t(s)] = t;
     weight[std::size_t(s)] = w;
     const double base = std::max(std::floor(t), double(minimum));
@@ -81,6 +81,19 @@ Quantization quantizeSegments(const MotorcycleLayout& layout, const QuantizeOpti
       for (const auto& [s, c] : coefficients)
         if (c != 0.0) entry(row, 4 * s + 1, c);
     }
+  for (const std::vector<int>& separation : options.separations) {
+    std::vector<int> members = separation;
+    std::sort(members.begin(), members.end());
+    members.erase(std::unique(members.begin(), members.end()), members.end());
+    const int row = glp_add_rows(lp, 1);
+    glp_set_row_bnds(lp, row, GLP_LO, 1.0, 0.0);
+    for (int s : members) {
+      if (s < 0 || s >= n)
+        throw InputError("quantize segments: a separation names segment " + std::to_string(s) +
+                         " of " + std::to_string(n));
+      entry(row, 4 * s + 1, 1.0);
+    }
+  }
   glp_load_matrix(lp, int(value.size()) - 1, rowIndex.data(), columnIndex.data(), value.data());
 
   glp_term_out(GLP_OFF);

@@ -1,9 +1,12 @@
 #pragma once
 // Whole numbers of cells for the segments of a rectangle layout (structure/layout/
 // motorcycle_layout.h), the quantization of an integer-grid map: opposite sides of every rectangle
-// get the same number of cells, every segment at least its minimum (0 lets it collapse), and the
-// numbers are as close as possible to length / cell size in relative terms,
-//   minimize  sum_s |cells_s - t_s| / max(t_s, 1),   t_s = length_s / cell size.
+// get the same number of cells, every segment at least its minimum (0 lets it collapse), every
+// separation set at least one cell in all, and the numbers are as close as possible to length /
+// cell size in relative terms (a cell's side stretched or shrunk on the surface),
+//   minimize  sum_s |cells_s - t_s| / max(t_s, 0.01),   t_s = length_s / cell size,
+// so that a cell a separation or a minimum demands goes to the longest of the short segments that
+// can take it.
 // Each segment borders two rectangles, so the constraints are those of a flow in a bidirected graph
 // (quarter-turn seams make some arcs leave or enter both of their rectangles), the problem of
 // "Min-Deviation-Flow in Bi-directed Graphs for T-Mesh Quantization" (Heistermann, Warnett, Bommes
@@ -22,6 +25,9 @@ struct QuantizeOptions {
   double cellSize = 1.0;
   /// Per segment the fewest cells it may get; empty: one each.
   std::vector<int> minimumCells;
+  /// Sets of segments that may not all collapse: at least one cell in each set (a path of
+  /// collapsed segments that joined two cones, say).
+  std::vector<std::vector<int>> separations;
   /// Time for the branch and cut (seconds); past it the best solution found is kept.
   double timeLimit = 20.0;
 };

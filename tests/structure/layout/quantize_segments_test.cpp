@@ -27,7 +27,7 @@ double deviation(const MotorcycleLayout& layout, const std::vector<int>& cells, 
   double sum = 0.0;
   for (std::size_t s = 0; s < cells.size(); ++s) {
     const double target = layout.segments()[s].length() / cellSize;
-    sum += std::abs(cells[s] - target) / std::max(target, 1.0);
+    sum += std::abs(cells[s] - target) / std::max(target, 0.01);
   }
   return sum;
 }
@@ -86,8 +86,11 @@ TEST_CASE("quantize_segments: segments far shorter than a cell still get their m
   options.minimumCells.resize(layout.segments().size());
   for (std::size_t s = 0; s < options.minimumCells.size(); ++s)
     options.minimumCells[s] = s % 2 == 0 ? 2 : 0;
+  // And a cell among segments 1, 3 and 5, which may collapse.
+  options.separations = {{1, 3, 5}};
   const Quantization q = structure::quantizeSegments(layout, options);
   checkValid(layout, q, options.minimumCells);
+  CHECK(q.segmentCells[1] + q.segmentCells[3] + q.segmentCells[5] >= 1);
   CHECK(q.optimal);
 }
 
