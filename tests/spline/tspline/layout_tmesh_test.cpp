@@ -28,6 +28,21 @@ spline::TSplineCheck checkSeamless(const spline::TSplineSpace& space, unsigned s
   return check;
 }
 
+// Opposite sides of every rectangle got the same cells, the rectangle's.
+void checkOppositeSides(const structure::MotorcycleLayout& layout,
+                        const spline::LayoutTMesh& grid) {
+  for (std::size_t r = 0; r < layout.rectangles().size(); ++r)
+    for (int pair = 0; pair < 2; ++pair) {
+      int a = 0, b = 0;
+      for (int he : layout.rectangles()[r].sides[std::size_t(pair)])
+        a += grid.segmentCells[std::size_t(he / 2)];
+      for (int he : layout.rectangles()[r].sides[std::size_t(pair + 2)])
+        b += grid.segmentCells[std::size_t(he / 2)];
+      CHECK(a == b);
+      CHECK(a == grid.rectangleCells[r][std::size_t(pair)]);
+    }
+}
+
 }  // namespace
 
 TEST_CASE("layout_tmesh: a seamless quad mesh with the cones as its only extraordinary points",
@@ -60,17 +75,7 @@ TEST_CASE("layout_tmesh: a seamless quad mesh with the cones as its only extraor
     CHECK(mesh.quarterTurnsAround[v] == 3);
   }
   CHECK(extraordinary == 8);
-  // Opposite sides of every rectangle got the same cells, every segment at least one.
-  for (std::size_t r = 0; r < layout.rectangles().size(); ++r)
-    for (int pair = 0; pair < 2; ++pair) {
-      int a = 0, b = 0;
-      for (int he : layout.rectangles()[r].sides[std::size_t(pair)])
-        a += grid.segmentCells[std::size_t(he / 2)];
-      for (int he : layout.rectangles()[r].sides[std::size_t(pair + 2)])
-        b += grid.segmentCells[std::size_t(he / 2)];
-      CHECK(a == b);
-      CHECK(a == grid.rectangleCells[r][std::size_t(pair)]);
-    }
+  checkOppositeSides(layout, grid);
   // A segment gets no cell only when shorter than a tenth of a cell.
   for (std::size_t e = 0; e < grid.segmentCells.size(); ++e)
     if (grid.segmentCells[e] == 0) CHECK(layout.segments()[e].length() < 0.1 * grid.cellSize);
@@ -229,15 +234,7 @@ TEST_CASE("layout_tmesh: segments far shorter than a cell that may not collapse 
   for (std::size_t e : shortAtCone) kept += grid.segmentCells[e] > 0;
   CHECK(kept > 0);
   CHECK(grid.quantizationOptimal);
-  for (std::size_t r = 0; r < layout.rectangles().size(); ++r)
-    for (int pair = 0; pair < 2; ++pair) {
-      int a = 0, b = 0;
-      for (int he : layout.rectangles()[r].sides[std::size_t(pair)])
-        a += grid.segmentCells[std::size_t(he / 2)];
-      for (int he : layout.rectangles()[r].sides[std::size_t(pair + 2)])
-        b += grid.segmentCells[std::size_t(he / 2)];
-      CHECK(a == b);
-    }
+  checkOppositeSides(layout, grid);
   const spline::TMesh& mesh = grid.mesh;
   long edges = 0;
   for (const auto& face : mesh.faces) edges += long(face.vertices.size());
