@@ -181,9 +181,9 @@ SplineSpaceBuild buildWithinBudget(const Flattening& flattening, const FitOption
     built = buildOnce();
     stuck = built.model.domain.faceCount() < faces ? 0 : stuck + 1;
   }
-  // A quad layout whose rounding had to halve the cells can come out far above the budget:
-  // coarser targets, a few times, keeping the smallest grid. A coarser target can round to a
-  // finer grid, or not at all (turbine: 13,633 control points, then 55,492, then no grid).
+  // A quad layout can come out far above the budget (segments shorter than a cell that may not
+  // collapse still get whole cells, and cells are split around close cones): coarser targets, a
+  // few times, keeping the smallest grid, which can also be the most stretched (turbine).
   if (options.kind == FitKind::TriBSpline) return built;
   int smallestControl = build.control;
   for (int attempt = 0; attempt < 3 && built.model.tmesh.numVertices > options.maxControl;
