@@ -155,6 +155,73 @@ std::vector<int> roundToQuarterTurns(const std::vector<Cone>& cones, long total,
   return k;
 }
 
+// Rounding each cone on its own leaves whole quarter turns where the surface needs none: on
+// cow.off the linearized distortion goes from 0.9 to 5.9 and the flat metric shrinks clusters of
+// cones to a hundredth of a cell. From the rounded k, moves one quarter turn at a time (between two
+// cones on a closed surface, where the sum is fixed; to or from one cone otherwise) while that
+// lowers the area-weighted squared conformal factor of the linear solve, sum_v a_v u_v^2 with
+// u = flat + sum_i k_i pi/2 G_i (mean zero when closed), a quadratic in k whose Gram matrix costs
+// one dot product per pair of Green's functions.
+void lowerRoundingDistortion(std::vector<int>& k, const std::vector<Eigen::VectorXd>& green,
+                             const Eigen::VectorXd& flat, const Eigen::VectorXd& area, bool closed,
+                             int largest) {
+  const auto m = static_cast<Eigen::Index>(k.size());
+  // Closed: the weighted means (u is taken mean zero), written out so that the Gram matrix needs
+  // no centred copies of the Green's functions.
+  const double total = area.sum();
+  const auto mean = [&](const Eigen::VectorXd& x) { return closed ? area.dot(x) / total : 0.0; };
+  Eigen::VectorXd means(m);
+  for (Eigen::Index i = 0; i < m; ++i) means[i] = mean(green[std::size_t(i)]);
+  const double flatMean = mean(flat);
+  Eigen::MatrixXd gram(m, m);
+  Eigen::VectorXd gradient(m);  // half the gradient of the objective in k
+  for (Eigen::Index i = 0; i < m; ++i) {
+    const Eigen::VectorXd weighted = area.cwiseProduct(green[std::size_t(i)]);
+    for (Eigen::Index j = 0; j <= i; ++j)
+      gram(i, j) = gram(j, i) =
+          kQuarter * kQuarter * (weighted.dot(green[std::size_t(j)]) - total * means[i] * means[j]);
+    gradient[i] = kQuarter * (weighted.dot(flat) - total * means[i] * flatMean);
+  }
+  for (Eigen::Index i = 0; i < m; ++i)
+    for (Eigen::Index j = 0; j < m; ++j) gradient[i] += gram(i, j) * k[std::size_t(j)];
+  // The lowest k keeps cone angles at most 4 pi (valence 8). Every move lowers the objective, so
+  // the descent ends; the bound on its steps is a guard.
+  const int lowest = -4;
+  for (int step = 0; step < 16 * int(m) + 64; ++step) {
+    double bestChange = -1e-9 * std::max(1.0, gram.diagonal().maxCoeff());
+    Eigen::Index up = -1, down = -1;
+    for (Eigen::Index i = 0; i < m; ++i) {
+      if (k[std::size_t(i)] >= largest) continue;
+      if (!closed) {
+        const double change = 2.0 * gradient[i] + gram(i, i);
+        if (change < bestChange) bestChange = change, up = i, down = -1;
+        continue;
+      }
+      for (Eigen::Index j = 0; j < m; ++j) {
+        if (j == i || k[std::size_t(j)] <= lowest) continue;
+        const double change =
+            2.0 * (gradient[i] - gradient[j]) + gram(i, i) + gram(j, j) - 2.0 * gram(i, j);
+        if (change < bestChange) bestChange = change, up = i, down = j;
+      }
+    }
+    if (!closed)
+      for (Eigen::Index j = 0; j < m; ++j) {
+        if (k[std::size_t(j)] <= lowest) continue;
+        const double change = -2.0 * gradient[j] + gram(j, j);
+        if (change < bestChange) bestChange = change, up = -1, down = j;
+      }
+    if (up < 0 && down < 0) return;
+    if (up >= 0) {
+      ++k[std::size_t(up)];
+      gradient += gram.col(up);
+    }
+    if (down >= 0) {
+      --k[std::size_t(down)];
+      gradient -= gram.col(down);
+    }
+  }
+}
+
 }  // namespace
 
 ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& options) {
@@ -327,6 +394,7 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
         for (const Cone& c : cones)
           k.push_back(std::min(largest, static_cast<int>(std::lround(c.curvature / kQuarter))));
       }
+      lowerRoundingDistortion(k, greens, flat, vertexAreas(mesh), closed, largest);
       std::vector<Cone> kept;
       for (std::size_t i = 0; i < cones.size(); ++i) {
         if (k[i] == 0) continue;

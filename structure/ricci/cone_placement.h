@@ -38,8 +38,11 @@ struct ConePlacementOptions {
   /// A new cone is at least this many edges away from every other cone and from the boundary.
   int minSeparation = 2;
   /// Round every cone curvature to a multiple k pi / 2 (see ConePlacementResult::quarterTurns).
-  /// On closed surfaces the integers sum to exactly 4 chi (largest-remainder rounding); cones that
-  /// round to 0 are dropped. Every cone angle 2 pi - k pi / 2 stays positive (k <= 3).
+  /// On closed surfaces the integers sum to exactly 4 chi (largest-remainder rounding); then
+  /// quarter turns move between cones (closed) or are added or taken (with a boundary) while that
+  /// lowers the area-weighted squared conformal factor of the linear solve, so that the rounding
+  /// errors do not pile up (-4 <= k). Cones that end at 0 are dropped. Every cone angle
+  /// 2 pi - k pi / 2 stays positive (k <= 3).
   bool quantize = false;
   /// With `quantize`: the largest multiple k allowed. 3 (default) lets a cone angle go down to
   /// pi/2; 2 keeps every angle at least pi, as quad grids need (a cone of angle pi/2 would be a

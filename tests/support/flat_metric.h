@@ -30,4 +30,10 @@ FlatMetric seamlessFlatMetric(const structure::TriMesh& mesh);
 /// cone).
 FlatMetric eightConeSphere();
 
+/// cow.off with the 39 cones that rounding each cone's curvature to quarter turns on its own gave
+/// (before cone placement lowered the rounding's distortion): pairs of opposite cones a hundredth
+/// of a cell apart in the flat metric, and intrinsic flips whose common subdivision has faces 1e-4
+/// of the surface's size. A hard case for layouts.
+FlatMetric clusteredConesCow();
+
 }  // namespace mspline::test

@@ -209,10 +209,10 @@ TEST_CASE("layout_tmesh: rectangles thinner than a tenth of a cell collapse, con
 
 TEST_CASE("layout_tmesh: segments far shorter than a cell that may not collapse still get a grid",
           "[spline]") {
-  // cow.off's cones come in tight clusters: segments between them are 1e-3 to 1e-2 of a cell and
-  // may not collapse (that would join cones). Rounding a lattice basis greedily found no whole
-  // numbers for them; the integer program always does.
-  const test::FlatMetric flat = test::seamlessFlatMetric(test::realMesh("cow.off"));
+  // Cones in tight clusters: segments between them are 1e-3 to 1e-2 of a cell and may not collapse
+  // (that would join cones). Rounding a lattice basis greedily found no whole numbers for them;
+  // the integer program always does.
+  const test::FlatMetric flat = test::clusteredConesCow();
   const structure::MotorcycleLayout layout(flat.surface, flat.lengths);
   double area = 0.0;
   for (const auto& r : layout.rectangles()) area += r.width() * r.height();

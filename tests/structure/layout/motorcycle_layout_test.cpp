@@ -137,10 +137,10 @@ TEST_CASE("motorcycle_layout: points between nearly coincident traces are locate
 
 TEST_CASE("motorcycle_layout: points of sliver faces are located through their neighbours",
           "[structure]") {
-  // cow.off's flattening needs intrinsic flips; faces of their common subdivision can be 1e-4 of
-  // the surface's size, where a hair inside a corner is closer to its sides than the walks
-  // resolve: such corners are located from the faces next to them.
-  const test::FlatMetric flat = test::seamlessFlatMetric(test::realMesh("cow.off"));
+  // The flattening needs intrinsic flips; faces of their common subdivision can be 1e-4 of the
+  // surface's size, where a hair inside a corner is closer to its sides than the walks resolve:
+  // such corners are located from the faces next to them.
+  const test::FlatMetric flat = test::clusteredConesCow();
   const MotorcycleLayout layout(flat.surface, flat.lengths);
   const auto& mesh = flat.surface;
   // Per vertex, where it is located from each face around it (face corner k is the to-vertex of
