@@ -6,7 +6,9 @@ Json gridJson(const spline::GridFigures& grid) {
   if (grid.torus)
     return {{"layout", "torus lattice"},
             {"cells", {grid.cellsAlongFirst, grid.cellsAlongSecond}},
-            {"anisotropy", grid.anisotropy}};
+            {"anisotropy", grid.anisotropy},
+            {"anisotropy_p99", grid.anisotropyP99},
+            {"extraordinary_points", grid.extraordinaryPoints}};
   return {{"layout", "motorcycle graph"},
           {"traces", grid.traces},
           {"rectangles", grid.rectangles},
@@ -18,7 +20,9 @@ Json gridJson(const spline::GridFigures& grid) {
            {{"optimal", grid.quantizationOptimal},
             {"solves", grid.quantizations},
             {"seconds", grid.quantizationSeconds}}},
-          {"anisotropy", grid.anisotropy}};
+          {"anisotropy", grid.anisotropy},
+          {"anisotropy_p99", grid.anisotropyP99},
+          {"extraordinary_points", grid.extraordinaryPoints}};
 }
 
 Json domainJson(const spline::DomainFigures& domain) {

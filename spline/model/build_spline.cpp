@@ -93,6 +93,7 @@ void buildTSpline(const BuildSplineOptions& s, const Flattening& flattening,
     setup.grid.cellsAlongFirst = torus->cellsAlongFirst;
     setup.grid.cellsAlongSecond = torus->cellsAlongSecond;
     setup.grid.anisotropy = torus->anisotropy;
+    setup.grid.anisotropyP99 = torus->anisotropy;
   } else {
     report(progress, "tracing the rectangle layout from " +
                          std::to_string(flattening.layout.cones.size()) + " cones");
@@ -113,6 +114,7 @@ void buildTSpline(const BuildSplineOptions& s, const Flattening& flattening,
     setup.grid.quantizations = quads->quantizations;
     setup.grid.quantizationSeconds = quads->quantizationSeconds;
     setup.grid.anisotropy = quads->maxAnisotropy;
+    setup.grid.anisotropyP99 = quads->anisotropyP99;
   }
   addStageSeconds(setup.stageSeconds, "grid", clock.lap());
   const auto locate = [&](int face, const Eigen::Vector3d& barycentric) {
@@ -130,6 +132,7 @@ void buildTSpline(const BuildSplineOptions& s, const Flattening& flattening,
   model.kind = SplineKind::TSpline;
   model.degree = 3;
   model.tmesh = torus ? torus->mesh : quads->mesh;
+  setup.grid.extraordinaryPoints = model.tmesh.numExtraordinary();
   copySurface(surface, model);
   const Eigen::Index vertexCount = model.surfaceVertices.rows();
   model.surfaceVertexTMeshPoints.assign(std::size_t(vertexCount), FacePoint{});

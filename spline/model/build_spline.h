@@ -70,8 +70,11 @@ struct GridFigures {
   bool quantizationOptimal = false;
   int quantizations = 0;
   double quantizationSeconds = 0.0;
-  /// Largest ratio of a cell's sides on the surface.
+  /// Largest ratio of a cell's sides on the surface, and its 99th percentile over the cells.
   double anisotropy = 1.0;
+  double anisotropyP99 = 1.0;
+  /// T-mesh vertices whose valence is not 4 (the cones that kept a vertex of their own).
+  int extraordinaryPoints = 0;
 };
 
 /// The domain triangulation of a triangular B-spline space.

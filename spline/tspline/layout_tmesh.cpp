@@ -68,6 +68,20 @@ struct VertexClasses {
   }
 };
 
+// The value below which `fraction` of the cells lie, given (value, cells) per rectangle.
+double cellPercentile(std::vector<std::pair<double, int>> values, double fraction) {
+  if (values.empty()) return 1.0;
+  std::sort(values.begin(), values.end());
+  long total = 0;
+  for (const auto& [value, cells] : values) total += cells;
+  long seen = 0;
+  for (const auto& [value, cells] : values) {
+    seen += cells;
+    if (double(seen) >= fraction * double(total)) return value;
+  }
+  return values.back().first;
+}
+
 // Why assembling the cells failed: a rectangle whose cells repeat a vertex that no collapse
 // joined (a cell around a segment that starts and ends at one node), sets of segments that may not
 // all collapse again (each undoes a chain of joins), or collapsed segments to give a cell again.
@@ -132,6 +146,7 @@ AssemblyFailure assembleCells(const MotorcycleLayout& layout, LayoutTMesh& grid)
   };
   grid.rectangleCells.clear();
   grid.maxAnisotropy = 1.0;
+  std::vector<std::pair<double, int>> anisotropyOfCells;  // (ratio, cells) per rectangle
   grid.collapsedRectangles = 0;
   std::vector<int> innerBase(rectangles.size(), -1);
   for (std::size_t r = 0; r < rectangles.size(); ++r) {
@@ -143,10 +158,13 @@ AssemblyFailure assembleCells(const MotorcycleLayout& layout, LayoutTMesh& grid)
       continue;
     }
     const double sx = cellsX / rect.width(), sy = cellsY / rect.height();
-    grid.maxAnisotropy = std::max(grid.maxAnisotropy, std::max(sx / sy, sy / sx));
+    const double anisotropy = std::max(sx / sy, sy / sx);
+    grid.maxAnisotropy = std::max(grid.maxAnisotropy, anisotropy);
+    anisotropyOfCells.emplace_back(anisotropy, cellsX * cellsY);
     innerBase[r] = next;
     next += (cellsX - 1) * (cellsY - 1);
   }
+  grid.anisotropyP99 = cellPercentile(anisotropyOfCells, 0.99);
   // The vertex at `offset` cells along side k of rectangle r, from its first corner.
   const auto onSide = [&](std::size_t r, int k, int offset) {
     const LayoutRectangle& rect = rectangles[r];

@@ -57,6 +57,8 @@ struct LayoutTMesh {
   /// and along y), >= 1, over the rectangles with cells: how far from square the cells are on the
   /// surface.
   double maxAnisotropy = 1.0;
+  /// The same ratio's 99th percentile over the cells (each cell has its rectangle's).
+  double anisotropyP99 = 1.0;
   /// Integer programs solved (one, and one more per collapse undone), their time in seconds, and
   /// whether the last was solved to proven optimality (false: stopped by its time limit).
   int quantizations = 0;

@@ -6,6 +6,8 @@
 
 #include <array>
 
+#include <nlohmann/json.hpp>
+
 #include "mspline/io/spline_model_file.h"
 #include "mspline/spline/tspline/tspline.h"
 #include "support/test_data.h"
@@ -52,6 +54,13 @@ TEST_CASE("tspline_seams: C2 across chart seams on eight.off", "[cli]") {
   INFO(built.err);
   REQUIRE(built.exitCode == 0);
   const spline::SplineModel loaded = io::readSplineModel(model);
+  // The grid's figures: its cones, and how far from square its cells are.
+  const auto grid = nlohmann::json::parse(built.out)["grid"];
+  CHECK(grid["layout"] == "motorcycle graph");
+  CHECK(grid["extraordinary_points"].get<int>() == loaded.tmesh.numExtraordinary());
+  CHECK(grid["extraordinary_points"].get<int>() > 0);
+  CHECK(grid["anisotropy_p99"].get<double>() >= 1.0);
+  CHECK(grid["anisotropy_p99"].get<double>() <= grid["anisotropy"].get<double>());
   const spline::TSplineSpace space(loaded.tmesh);
   const spline::TMesh& mesh = space.mesh();
   const double scale =

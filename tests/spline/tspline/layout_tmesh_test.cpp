@@ -1,5 +1,6 @@
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -244,6 +245,18 @@ TEST_CASE("layout_tmesh: segments far shorter than a cell that may not collapse 
   int extraordinary = 0;
   for (int v = 0; v < mesh.numVertices; ++v) extraordinary += mesh.isExtraordinary(v);
   CHECK(extraordinary == cones);
+  // The cells' anisotropy: its 99th percentile recomputed cell by cell.
+  std::vector<double> perCell;
+  for (std::size_t r = 0; r < layout.rectangles().size(); ++r) {
+    const auto [x, y] = grid.rectangleCells[r];
+    const auto& rect = layout.rectangles()[r];
+    if (x == 0 || y == 0) continue;
+    const double ratio = (x / rect.width()) / (y / rect.height());
+    perCell.insert(perCell.end(), std::size_t(x * y), std::max(ratio, 1.0 / ratio));
+  }
+  std::sort(perCell.begin(), perCell.end());
+  CHECK(grid.maxAnisotropy == perCell.back());
+  CHECK(grid.anisotropyP99 == perCell[std::size_t(std::ceil(0.99 * double(perCell.size()))) - 1]);
   for (const auto& face : mesh.faces) {
     CHECK(face.width == 1.0);
     CHECK(face.height == 1.0);
