@@ -56,6 +56,19 @@ structure::RicciResult flatten(const std::string& name, const TriMesh& mesh,
   return result;
 }
 
+// Most of a sphere: icosphere(3) without the faces whose centroid is below z = -0.6 (one boundary
+// loop).
+TriMesh sphericalCap() {
+  TriMesh cap = test::icosphere(3);
+  for (const auto f : cap.faces()) {
+    OpenMesh::Vec3d centroid(0, 0, 0);
+    for (const auto v : cap.fv_range(f)) centroid += cap.point(v);
+    if (centroid[2] < -3 * 0.6) cap.delete_face(f, true);
+  }
+  cap.garbage_collection();
+  return cap;
+}
+
 void checkConverged(const TriMesh& mesh, const structure::RicciResult& result) {
   INFO(result.message);
   REQUIRE(result.converged);
@@ -193,13 +206,7 @@ TEST_CASE("cone_placement: surfaces with boundary keep u = 0 there", "[structure
   CHECK(flat.distortion <= 1e-12);
 
   // Most of a sphere, flattened with its boundary lengths kept, needs interior cones.
-  TriMesh cap = test::icosphere(3);
-  for (const auto f : cap.faces()) {
-    OpenMesh::Vec3d centroid(0, 0, 0);
-    for (const auto v : cap.fv_range(f)) centroid += cap.point(v);
-    if (centroid[2] < -3 * 0.6) cap.delete_face(f, true);
-  }
-  cap.garbage_collection();
+  const TriMesh cap = sphericalCap();
   REQUIRE(structure::analyzeTopology(cap).boundaryLoops == 1);
   ConePlacementOptions options;
   const auto placement = structure::placeCones(cap, options);
@@ -217,23 +224,48 @@ TEST_CASE("cone_placement: surfaces with boundary keep u = 0 there", "[structure
   checkConverged(cap, flatten("capped icosphere(3) quantized", cap, quantized));
 }
 
+// The input's Gauss curvature and cotangent Laplacian, factorized with u = 0 held on the boundary
+// and at `held` (a factorization of its own, independent of the Green's function updates
+// placeCones uses).
+class HeldLaplacian {
+ public:
+  HeldLaplacian(const TriMesh& mesh, const std::vector<int>& held)
+      : map_(mesh.n_vertices(), heldVertices(mesh, held)) {
+    const Eigen::VectorXd lengths = structure::edgeLengths(mesh);
+    curvature = structure::vertexCurvatures(mesh, lengths);
+    laplacian = structure::vertexScalingHessian(
+        mesh, lengths, Eigen::VectorXd::Zero(static_cast<Eigen::Index>(mesh.n_vertices())));
+    solver_.compute(map_.restrict(laplacian));
+    REQUIRE(solver_.info() == Eigen::Success);
+  }
+  // L u = rhs at the free vertices, u = 0 at the held ones.
+  Eigen::VectorXd solve(const Eigen::VectorXd& rhs) const {
+    Eigen::VectorXd u = Eigen::VectorXd::Zero(rhs.size());
+    map_.scatter(solver_.solve(map_.gather(rhs)), u);
+    return u;
+  }
+  Eigen::VectorXd curvature;
+  Eigen::SparseMatrix<double> laplacian;
+
+ private:
+  static std::vector<char> heldVertices(const TriMesh& mesh, const std::vector<int>& held) {
+    std::vector<char> flags(mesh.n_vertices(), 0);
+    for (const auto v : mesh.vertices()) flags[v.idx()] = mesh.is_boundary(v);
+    for (int v : held) flags[std::size_t(v)] = 1;
+    return flags;
+  }
+  structure::IndexMap map_;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver_;
+};
+
 // The cone curvatures K + L u with u the direct solve of L u = -K at the free vertices, u = 0 at
-// the cones and on the boundary (a factorization of that constrained system, independent of the
-// Green's function updates placeCones uses).
+// the cones and on the boundary.
 std::vector<double> directConeCurvatures(const TriMesh& mesh, const std::vector<Cone>& cones) {
-  const Eigen::VectorXd lengths = structure::edgeLengths(mesh);
-  const Eigen::VectorXd curvature = structure::vertexCurvatures(mesh, lengths);
-  const Eigen::SparseMatrix<double> laplacian = structure::vertexScalingHessian(
-      mesh, lengths, Eigen::VectorXd::Zero(static_cast<Eigen::Index>(mesh.n_vertices())));
-  std::vector<char> held(mesh.n_vertices(), 0);
-  for (const auto v : mesh.vertices()) held[v.idx()] = mesh.is_boundary(v);
-  for (const Cone& c : cones) held[c.vertex] = 1;
-  const structure::IndexMap map(mesh.n_vertices(), held);
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(map.restrict(laplacian));
-  REQUIRE(solver.info() == Eigen::Success);
-  Eigen::VectorXd u = Eigen::VectorXd::Zero(curvature.size());
-  map.scatter(solver.solve(map.gather(-curvature)), u);
-  const Eigen::VectorXd linear = curvature + laplacian * u;
+  std::vector<int> held;
+  for (const Cone& c : cones) held.push_back(c.vertex);
+  const HeldLaplacian system(mesh, held);
+  const Eigen::VectorXd linear =
+      system.curvature + system.laplacian * system.solve(-system.curvature);
   std::vector<double> result;
   for (const Cone& c : cones) result.push_back(linear[c.vertex]);
   return result;
@@ -242,13 +274,7 @@ std::vector<double> directConeCurvatures(const TriMesh& mesh, const std::vector<
 TEST_CASE("cone_placement: cone curvatures equal the direct constrained solve", "[structure]") {
   // Closed (vertex 0, the gauge of the base system, is among the icosphere's cones) and with a
   // boundary.
-  TriMesh cap = test::icosphere(3);
-  for (const auto f : cap.faces()) {
-    OpenMesh::Vec3d centroid(0, 0, 0);
-    for (const auto v : cap.fv_range(f)) centroid += cap.point(v);
-    if (centroid[2] < -3 * 0.6) cap.delete_face(f, true);
-  }
-  cap.garbage_collection();
+  const TriMesh cap = sphericalCap();
   for (const TriMesh& mesh : {test::icosphere(3), test::doubleTorus(12), cap}) {
     const auto placement = structure::placeCones(mesh);
     REQUIRE_FALSE(placement.cones.empty());
@@ -281,21 +307,9 @@ constexpr int kLowestQuarterTurns = -4;
 void checkRoundingIsLocallyBest(const TriMesh& mesh, const structure::ConePlacementResult& placed,
                                 int largest) {
   const bool closed = analyzeTopology(mesh).closed;
-  const Eigen::VectorXd lengths = structure::edgeLengths(mesh);
-  const Eigen::VectorXd curvature = structure::vertexCurvatures(mesh, lengths);
-  const Eigen::SparseMatrix<double> laplacian = structure::vertexScalingHessian(
-      mesh, lengths, Eigen::VectorXd::Zero(static_cast<Eigen::Index>(mesh.n_vertices())));
-  std::vector<char> held(mesh.n_vertices(), 0);
-  for (const auto v : mesh.vertices()) held[v.idx()] = mesh.is_boundary(v);
-  if (closed) held[0] = 1;
-  const structure::IndexMap map(mesh.n_vertices(), held);
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(map.restrict(laplacian));
-  REQUIRE(solver.info() == Eigen::Success);
-  const auto solve = [&](const Eigen::VectorXd& rhs) {
-    Eigen::VectorXd u = Eigen::VectorXd::Zero(rhs.size());
-    map.scatter(solver.solve(map.gather(rhs)), u);
-    return u;
-  };
+  // Closed: vertex 0 held as the gauge.
+  const HeldLaplacian system(mesh, closed ? std::vector<int>{0} : std::vector<int>{});
+  const Eigen::VectorXd& curvature = system.curvature;
   Eigen::VectorXd area = Eigen::VectorXd::Zero(curvature.size());
   for (const auto f : mesh.faces()) {
     auto v = mesh.cfv_begin(f);
@@ -314,9 +328,9 @@ void checkRoundingIsLocallyBest(const TriMesh& mesh, const structure::ConePlacem
     rhs[c.vertex] += c.curvature;
     Eigen::VectorXd unit = Eigen::VectorXd::Zero(curvature.size());
     unit[c.vertex] = kPi / 2;
-    green.push_back(solve(unit));
+    green.push_back(system.solve(unit));
   }
-  const Eigen::VectorXd u = solve(rhs);
+  const Eigen::VectorXd u = system.solve(rhs);
   const double best = spread(u);
   const auto& k = placed.quarterTurns;
   int moves = 0;
@@ -353,13 +367,7 @@ TEST_CASE("cone_placement: rounding to quarter turns keeps the conformal factor 
   CHECK(quantized.distortion < 3.0);
   checkRoundingIsLocallyBest(mesh, quantized, 2);
   // With a boundary, quarter turns are added or taken one cone at a time.
-  TriMesh cap = test::icosphere(3);
-  for (const auto f : cap.faces()) {
-    OpenMesh::Vec3d centroid(0, 0, 0);
-    for (const auto v : cap.fv_range(f)) centroid += cap.point(v);
-    if (centroid[2] < -3 * 0.6) cap.delete_face(f, true);
-  }
-  cap.garbage_collection();
+  const TriMesh cap = sphericalCap();
   ConePlacementOptions capOptions;
   capOptions.quantize = true;
   capOptions.maxDistortion = 0.2;
