@@ -140,11 +140,17 @@ std::vector<int> roundToQuarterTurns(const std::vector<Cone>& cones, long total,
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t a, std::size_t b) { return remainder[a] > remainder[b]; });
-  for (std::size_t i : order) {
-    if (sum >= total) break;
-    if (k[i] < largest) {
-      ++k[i];
-      ++sum;
+  // Round after round (a cone may need two quarter turns more: a tetrahedron's right-angled
+  // corner rounded to 0 when the other three are capped at `largest`).
+  for (bool raised = true; sum < total && raised;) {
+    raised = false;
+    for (std::size_t i : order) {
+      if (sum >= total) break;
+      if (k[i] < largest) {
+        ++k[i];
+        ++sum;
+        raised = true;
+      }
     }
   }
   if (sum != total) {
@@ -297,6 +303,17 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
         if (2.0 * kPi - c.curvature < minAngle) return false;
       return true;
     };
+    // Rounding to quarter turns needs at least 4 chi / maxQuarterTurns cones on a closed surface
+    // of positive Euler characteristic (a blob with three cones of curvature about 2 pi / 3 each
+    // cannot be rounded with at most pi per cone): placement goes on until there are enough.
+    const auto roomToRound = [&] {
+      return !(options.quantize && closed && chi > 0 &&
+               static_cast<long>(cones.size()) * options.maxQuarterTurns < 4 * chi);
+    };
+    // Relaxed to 1 (any vertex that is not a cone or on the boundary) when no vertex is farther
+    // and the surface still needs cones: on a coarse polyhedron the corners, next to each other,
+    // carry all the curvature.
+    int separation = options.minSeparation;
     std::vector<int> hops(mesh.n_vertices(), std::numeric_limits<int>::max());
     addHopSources(mesh, boundary, options.minSeparation, hops);
     std::string stop;
@@ -307,7 +324,7 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
           stop = "reached the requested count";
           break;
         }
-      } else if (valid() && distortion <= options.maxDistortion) {
+      } else if (valid() && roomToRound() && distortion <= options.maxDistortion) {
         stop = "distortion below the threshold";
         break;
       } else if (static_cast<int>(cones.size()) >= options.maxCones) {
@@ -316,9 +333,13 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
       }
 
       int best = -1;
-      for (Eigen::Index v = 0; v < n; ++v) {
-        if (hops[v] < options.minSeparation || pinned[v]) continue;
-        if (best < 0 || std::abs(u[v]) > std::abs(u[best])) best = static_cast<int>(v);
+      for (;;) {
+        for (Eigen::Index v = 0; v < n; ++v) {
+          if (hops[v] < separation || pinned[v]) continue;
+          if (best < 0 || std::abs(u[v]) > std::abs(u[best])) best = static_cast<int>(v);
+        }
+        if (best >= 0 || separation <= 1) break;
+        separation = 1;
       }
       if (best < 0) {
         stop = "no vertex is far enough from the cones and the boundary";

@@ -35,9 +35,12 @@ struct ConePlacementOptions {
   /// Automatic placement goes on while a cone angle 2 pi - curvature is below this (radians):
   /// nearly degenerate cones make the Newton solve hard. Default pi / 4.
   double minConeAngle = kPi / 4;
-  /// A new cone is at least this many edges away from every other cone and from the boundary.
+  /// A new cone is at least this many edges away from every other cone and from the boundary;
+  /// when no vertex is that far and the surface still needs cones (a coarse polyhedron), any
+  /// vertex that is not a cone and not on the boundary.
   int minSeparation = 2;
   /// Round every cone curvature to a multiple k pi / 2 (see ConePlacementResult::quarterTurns).
+  /// Automatic placement then goes on until the cones can carry 2 pi chi in such multiples.
   /// On closed surfaces the integers sum to exactly 4 chi (largest-remainder rounding); then
   /// quarter turns move between cones (closed) or are added or taken (with a boundary) while that
   /// lowers the area-weighted squared conformal factor of the linear solve, so that the rounding

@@ -15,8 +15,10 @@ using mspline::test::runCommand;
 
 namespace {
 
-const char* const kTetrahedron =
-    "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
+// A tetrahedron whose apex is a hundred times farther from its base than the base is wide: the
+// apex's cone angle is below pi/4 and no other vertex can take its curvature.
+const char* const kNeedle =
+    "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0.2 0.2 100\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
 
 std::string firstLine(const std::string& text) {
   return text.substr(0, text.find('\n'));
@@ -168,9 +170,9 @@ TEST_CASE("error_policy: failed computations exit 3 naming the stage, whatever t
           "[cli]") {
   const fs::path dir = mspline::test::scratchDirectory("error_policy_computation");
   const fs::path tetrahedron = dir / "tet.off";
-  writeFile(tetrahedron, kTetrahedron);
-  // Automatic cone placement finds no cones that flatten a tetrahedron (its vertices are too close
-  // to each other for a second cone): a failure of the computation, as a flow out of steps is.
+  writeFile(tetrahedron, kNeedle);
+  // Automatic cone placement finds no cones that flatten a needle: a failure of the computation,
+  // as a flow out of steps is.
   for (const char* command : {"flatten", "spline", "fit"}) {
     SECTION(command) {
       const std::string output =

@@ -346,6 +346,13 @@ PolygonSoup tetrahedronSoup() {
   return s;
 }
 
+PolygonSoup needleSoup() {
+  PolygonSoup s = tetrahedronSoup();
+  s.sourceName = "needle.off";
+  s.positions[3] = {0.2, 0.2, 100.0};
+  return s;
+}
+
 PolygonSoup octahedronSoup(double offset) {
   PolygonSoup s;
   s.sourceName = "oct.off";

@@ -49,6 +49,10 @@ using structure::PolygonSoup;
 
 /// Outward-oriented unit tetrahedron as a soup (source name "tet.off").
 PolygonSoup tetrahedronSoup();
+/// A tetrahedron whose apex is a hundred times farther from its base than the base is wide
+/// ("needle.off"): the apex's cone angle is below pi/4 and no other vertex can take its
+/// curvature, so automatic cone placement cannot flatten it.
+PolygonSoup needleSoup();
 /// Outward-oriented octahedron with vertices on the axes, shifted by `offset` along x ("oct.off").
 PolygonSoup octahedronSoup(double offset = 0.0);
 /// n x n grid on the unit square; quads split into two triangles or kept as quads ("grid").

@@ -427,17 +427,44 @@ TEST_CASE("cone_placement: cone files", "[structure]") {
 
 TEST_CASE("cone_placement: automatic placement that cannot flatten is a failed computation",
           "[structure]") {
-  // A tetrahedron: no vertex is far enough from the first cone for a second one.
-  structure::PolygonSoup soup;
-  soup.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-  soup.faces = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
-  const TriMesh tetrahedron = structure::toTriMesh(soup);
-  CHECK_THROWS_AS(structure::placeCones(tetrahedron), structure::SolverError);
-  CHECK_THROWS_WITH(structure::placeCones(tetrahedron), Catch::Contains("cone placement"));
+  // A needle: every vertex a cone, and the apex's angle still below pi/4.
+  const TriMesh needle = structure::toTriMesh(test::needleSoup());
+  CHECK_THROWS_AS(structure::placeCones(needle), structure::SolverError);
+  CHECK_THROWS_WITH(structure::placeCones(needle),
+                    Catch::Contains("cone placement") && Catch::Contains("4 cones"));
   // A count the caller asked for is the caller's to change.
   ConePlacementOptions options;
   options.targetCount = 1;
-  CHECK_THROWS_AS(structure::placeCones(tetrahedron, options), structure::InputError);
+  CHECK_THROWS_AS(structure::placeCones(needle, options), structure::InputError);
+}
+
+TEST_CASE("cone_placement: coarse polyhedra get a cone at every corner that needs one",
+          "[structure]") {
+  // A unit tetrahedron: its corners are next to each other, closer than minSeparation, and carry
+  // all the curvature; quantized, four quarter-turn multiples of at most 2 summing to 8.
+  const TriMesh tetrahedron = structure::toTriMesh(test::tetrahedronSoup());
+  const auto placement = structure::placeCones(tetrahedron);
+  CHECK(placement.cones.size() == 4);
+  CHECK(std::abs(curvatureSum(placement.cones) - 4 * kPi) <= 1e-12);
+  ConePlacementOptions options;
+  options.quantize = true;
+  options.maxQuarterTurns = 2;
+  const auto quantized = structure::placeCones(tetrahedron, options);
+  REQUIRE(quantized.quarterTurns.size() == 4);
+  for (int k : quantized.quarterTurns) CHECK(k == 2);
+  checkConverged(tetrahedron, flatten("tetrahedron, angles pi", tetrahedron, quantized));
+  // An octahedron's six corners carry 4/3 of a quarter turn each: too few cones for at most one
+  // quarter turn each until all six are placed.
+  const TriMesh octahedron = structure::toTriMesh(test::octahedronSoup());
+  options.maxQuarterTurns = 1;
+  CHECK_THROWS_WITH(structure::placeCones(octahedron, options),
+                    Catch::Contains("cannot be quantized"));
+  options.maxQuarterTurns = 2;
+  const auto octahedronCones = structure::placeCones(octahedron, options);
+  int turns = 0;
+  for (int k : octahedronCones.quarterTurns) turns += k;
+  CHECK(turns == 8);
+  CHECK(octahedronCones.quarterTurns.size() >= 4);
 }
 
 TEST_CASE("cone_placement: quantized cones can be kept at angle pi or more", "[structure]") {
