@@ -127,7 +127,7 @@ Row layOut(const std::string& path, long subdivideTo, int control) {
     for (const auto& [name, seconds] : space.stageSeconds)
       if (name == "grid") row.layoutSeconds += seconds;
     row.extraordinary = space.grid.extraordinaryPoints;
-    row.traces = space.grid.torus ? 0 : space.grid.traces;
+    row.traces = space.grid.traces;
     row.collapsed = space.grid.collapsedSegments;
     row.cells = space.model.tmesh.numFaces();
     row.anisotropyP99 = space.grid.anisotropyP99;

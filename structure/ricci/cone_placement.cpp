@@ -193,8 +193,10 @@ void lowerRoundingDistortion(std::vector<int>& k, const std::vector<Eigen::Vecto
   // The lowest k keeps cone angles at most 4 pi (valence 8). Every move lowers the objective, so
   // the descent ends; the bound on its steps is a guard.
   const int lowest = -4;
+  // A move must lower the objective by more than rounding.
+  const double threshold = -1e-9 * std::max(1.0, gram.diagonal().maxCoeff());
   for (int step = 0; step < 16 * int(m) + 64; ++step) {
-    double bestChange = -1e-9 * std::max(1.0, gram.diagonal().maxCoeff());
+    double bestChange = threshold;
     Eigen::Index up = -1, down = -1;
     for (Eigen::Index i = 0; i < m; ++i) {
       if (k[std::size_t(i)] >= largest) continue;
@@ -270,12 +272,12 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
   std::vector<int> greenVertices;
   std::vector<Eigen::VectorXd> greens;
 
+  const Eigen::VectorXd area = vertexAreas(mesh);
   // Round 0. Closed: the conformal factor to constant curvature (2 pi chi spread by area), gauge
   // fixed at vertex 0 and then by mean zero; it is the flat metric itself on a torus. With a
   // boundary: flat with u = 0 on the boundary.
   Eigen::VectorXd u;
   if (closed) {
-    const Eigen::VectorXd area = vertexAreas(mesh);
     const Eigen::VectorXd uniform = area * (2.0 * kPi * static_cast<double>(chi) / area.sum());
     u = system.solve(uniform - inputCurvature);
     u.array() -= u.mean();
@@ -415,7 +417,7 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
         for (const Cone& c : cones)
           k.push_back(std::min(largest, static_cast<int>(std::lround(c.curvature / kQuarter))));
       }
-      lowerRoundingDistortion(k, greens, flat, vertexAreas(mesh), closed, largest);
+      lowerRoundingDistortion(k, greens, flat, area, closed, largest);
       std::vector<Cone> kept;
       for (std::size_t i = 0; i < cones.size(); ++i) {
         if (k[i] == 0) continue;
