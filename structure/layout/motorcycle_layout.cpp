@@ -31,6 +31,10 @@ struct Motion {
   Eigen::Vector2d translation = Eigen::Vector2d::Zero();
   double angle = 0.0;
   Eigen::Vector2d apply(const Eigen::Vector2d& p) const { return rotation * p + translation; }
+  Motion inverse() const {
+    const Eigen::Matrix2d back = rotation.transpose();
+    return {back, -(back * translation), -angle};
+  }
 };
 
 // A mesh face in its own coordinates: corner k (the to-vertex of the k-th halfedge from the face's
@@ -61,18 +65,25 @@ struct Trace {
   bool running = true;
   int endTrace = -1;  // the trace it ended on, at arc length endArc
   double endArc = 0.0;
-  bool fromLeft = false;  // arrived from the left side of endTrace
+  // It ended at the end node of this trace instead (met head-on, or crossing the node where two
+  // traces met head-on): the node belongs to the trace that stopped first.
+  int joinTrace = -1;
+  // Its way back from the end node in quarter turns counter-clockwise from the node's reference
+  // direction: the forward direction of endTrace (1 from its left, 3 from its right), or the way
+  // back of the node's owner when that met a trace head-on (0).
+  int endSlot = 0;
   int endNode = -1;
 };
 
 // The first crossing of the ray p + t d (0 < t <= limit) with segment [a, b]: t and the
-// parameter along the segment, or t = -1.
+// parameter along the segment, or t = -1. None when the sine of their angle is at most
+// `parallel`.
 std::pair<double, double> rayHit(const Eigen::Vector2d& p, const Eigen::Vector2d& d, double limit,
-                                 const Eigen::Vector2d& a, const Eigen::Vector2d& b,
-                                 double minimum) {
+                                 const Eigen::Vector2d& a, const Eigen::Vector2d& b, double minimum,
+                                 double parallel) {
   const Eigen::Vector2d e = b - a;
   const double det = cross(d, e);
-  if (std::abs(det) <= 1e-14 * e.norm()) return {-1.0, 0.0};
+  if (std::abs(det) <= parallel * e.norm()) return {-1.0, 0.0};
   const double t = cross(a - p, e) / det, w = cross(a - p, d) / det;
   if (t <= minimum || t > limit || w < -1e-12 || w > 1.0 + 1e-12) return {-1.0, 0.0};
   return {t, std::clamp(w, 0.0, 1.0)};
@@ -106,7 +117,7 @@ struct MotorcycleLayout::Data {
     double along = 0.0;
     for (int i = 0; i < 3; ++i) {
       const auto [t, w] = rayHit(p, d, INFINITY, face.corner[std::size_t(i)],
-                                 face.corner[std::size_t((i + 1) % 3)], 1e-12 * scale);
+                                 face.corner[std::size_t((i + 1) % 3)], 1e-12 * scale, 1e-14);
       if (t >= 0.0 && (exit.edge < 0 || t < exit.t)) exit.t = t, exit.edge = i, along = w;
     }
     if (exit.edge >= 0) {
@@ -130,12 +141,64 @@ struct MotorcycleLayout::Data {
   };
   std::optional<WalkEnd> walk(int f, Eigen::Vector2d p, Eigen::Vector2d direction) const;
 
-  Hit firstPiece(int f, const Eigen::Vector2d& p, const Eigen::Vector2d& d, double limit) const {
+  // The last piece of another trace that runs back along the line p + t d (t > 0) in face f, or
+  // in a face across an edge of f that the line runs along (traces along mesh edges are nudged
+  // into one face or the other): two traces on one line, which in exact arithmetic meet head-on
+  // (traces from cones facing each other, or a trace aimed exactly at a cone, which sends a trace
+  // back along the same line). Within 1e-6 of the surface's size and of a radian: the walk moves
+  // exits off corners by 1e-7 of an edge.
+  struct Facing {
+    int face = -1;
+    int piece = -1;
+    Motion toFace;  // from the piece's face into f's coordinates
+  };
+  Facing headOn(int f, int self, const Eigen::Vector2d& p, const Eigen::Vector2d& d) const {
+    Facing best;
+    double nearest = INFINITY;
+    const double tolerance = 1e-6 * scale;
+    const auto consider = [&](int g, const Motion& toFace) {
+      for (std::size_t k = 0; k < pieces[std::size_t(g)].size(); ++k) {
+        const Piece& piece = pieces[std::size_t(g)][k];
+        const Eigen::Vector2d a = toFace.apply(piece.a), b = toFace.apply(piece.b);
+        const double length = (b - a).norm();
+        if (piece.trace == self || length <= 0.0 ||
+            piece.s1 != traces[std::size_t(piece.trace)].length)
+          continue;
+        const Eigen::Vector2d q = (b - a) / length;
+        if (q.dot(d) >= 0.0 || std::abs(cross(q, d)) > 1e-6) continue;
+        if (std::abs(cross(a - p, d)) > tolerance) continue;
+        const double ahead = (b - p).dot(d);  // the end nearest to p
+        if (ahead < -tolerance || ahead >= nearest) continue;
+        best = {g, int(k), toFace};
+        nearest = ahead;
+      }
+    };
+    consider(f, Motion{});
+    const FaceGeometry& face = faces[std::size_t(f)];
+    for (int i = 0; i < 3; ++i) {
+      const Eigen::Vector2d& a = face.corner[std::size_t(i)];
+      const Eigen::Vector2d& b = face.corner[std::size_t((i + 1) % 3)];
+      if (std::abs(cross(a - p, d)) <= tolerance && std::abs(cross(b - p, d)) <= tolerance)
+        consider(face.neighbour[std::size_t(i)], face.across[std::size_t(i)].inverse());
+    }
+    return best;
+  }
+
+  // The first trace piece met along p + t d, 0 < t <= limit, in face f. A growing trace `self`
+  // (-1 for a walk) passes the end of a trace that ended on it there.
+  Hit firstPiece(int f, const Eigen::Vector2d& p, const Eigen::Vector2d& d, double limit,
+                 int self = -1) const {
     Hit hit;
-    for (std::size_t k = 0; k < pieces[f].size(); ++k) {
-      const Piece& piece = pieces[f][k];
-      const auto [t, w] = rayHit(p, d, limit, piece.a, piece.b, 1e-10 * scale);
-      if (t >= 0.0 && (hit.t < 0.0 || t < hit.t)) hit = {t, int(k), w};
+    for (std::size_t k = 0; k < pieces[std::size_t(f)].size(); ++k) {
+      const Piece& piece = pieces[std::size_t(f)][k];
+      // Traces within 1e-6 rad of parallel do not cross: they run along each other (headOn).
+      const auto [t, w] = rayHit(p, d, limit, piece.a, piece.b, 1e-10 * scale, 1e-6);
+      if (t < 0.0 || (hit.t >= 0.0 && t >= hit.t)) continue;
+      const Trace& other = traces[std::size_t(piece.trace)];
+      if (self >= 0 && other.endTrace == self && piece.s1 == other.length &&
+          (1.0 - w) * (piece.s1 - piece.s0) <= 1e-6 * scale)
+        continue;
+      hit = {t, int(k), w};
     }
     return hit;
   }
@@ -343,23 +406,74 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
     const int t = queue.top().second;
     queue.pop();
     Trace& trace = d.traces[std::size_t(t)];
+    if (!trace.running) continue;  // stopped head-on by another trace
     const Data::Exit exit = d.exitOf(trace.face, trace.tip, trace.direction);
     if (exit.edge < 0)
       throw SolverError("motorcycle layout: trace " + std::to_string(t) + " lost its way in face " +
                         std::to_string(trace.face));
-    const Data::Hit hit = d.firstPiece(trace.face, trace.tip, trace.direction, exit.t);
+    const Data::Hit hit = d.firstPiece(trace.face, trace.tip, trace.direction, exit.t, t);
+    // Head-on: where both arc lengths agree when the other still runs (they started together; its
+    // piece is trimmed to that point), at its end when it has stopped; unless an ordinary crossing
+    // comes clearly first.
+    const Data::Facing facing = d.headOn(trace.face, t, trace.tip, trace.direction);
+    if (facing.face >= 0) {
+      Piece& other = d.pieces[std::size_t(facing.face)][std::size_t(facing.piece)];
+      const int partnerIndex = other.trace;
+      Trace& partner = d.traces[std::size_t(partnerIndex)];
+      const Eigen::Vector2d a = facing.toFace.apply(other.a), b = facing.toFace.apply(other.b);
+      const double toEnd = (b - trace.tip).dot(trace.direction);
+      const double toStart = (a - trace.tip).dot(trace.direction);
+      const double meet = partner.running ? std::clamp(0.5 * (other.s1 + toEnd - trace.length),
+                                                       std::max(0.0, toEnd), toStart)
+                                          : std::max(0.0, toEnd);
+      if (hit.t < 0.0 || meet <= hit.t + 1e-6 * d.scale) {
+        const Eigen::Vector2d end = trace.tip + meet * trace.direction;
+        if (partner.running) {
+          // It stops at the meeting point too; its tip's pending step is dropped.
+          other.b = facing.toFace.inverse().apply(end);
+          other.s1 = other.s0 + (other.b - other.a).norm();
+          partner.length = other.s1;
+          partner.running = false;
+          partner.endSlot = 0;
+        }
+        d.pieces[std::size_t(trace.face)].push_back(
+            {t, trace.tip, end, trace.length, trace.length + meet});
+        trace.length += meet;
+        trace.joinTrace = partner.joinTrace >= 0 ? partner.joinTrace : partnerIndex;
+        trace.endSlot = (partner.endSlot + 2) % 4;
+        trace.running = false;
+        continue;
+      }
+    }
     const Eigen::Vector2d end =
         hit.t >= 0.0 ? Eigen::Vector2d(trace.tip + hit.t * trace.direction) : exit.point;
-    const double step = (end - trace.tip).norm();
-    Piece piece{t, trace.tip, end, trace.length, trace.length + step};
     if (hit.t >= 0.0) {
-      const Piece& other = d.pieces[std::size_t(trace.face)][std::size_t(hit.piece)];
+      Piece& other = d.pieces[std::size_t(trace.face)][std::size_t(hit.piece)];
+      Trace& target = d.traces[std::size_t(other.trace)];
+      const double arc = other.s0 + hit.w * (other.s1 - other.s0);
+      const Eigen::Vector2d along = other.b - other.a;
+      if (target.running && other.s1 == target.length &&
+          arc > trace.length + hit.t + 1e-6 * d.scale) {
+        // Its step crossed the whole face, but it reaches the crossing after this trace: it stops
+        // on this trace there, and this one goes on (passing its end) at its next step.
+        target.endTrace = t;
+        target.endArc = trace.length + hit.t;
+        target.endSlot = cross(trace.direction, along) < 0.0 ? 1 : 3;
+        other.b = end;
+        other.s1 = arc;
+        target.length = arc;
+        target.running = false;
+        queue.emplace(trace.length, t);
+        continue;
+      }
       trace.endTrace = other.trace;
-      trace.endArc = other.s0 + hit.w * (other.s1 - other.s0);
-      trace.fromLeft = cross(other.b - other.a, trace.direction) < 0.0;
+      trace.endArc = arc;
+      trace.endSlot = cross(along, trace.direction) < 0.0 ? 1 : 3;
       trace.running = false;
     }
-    d.pieces[std::size_t(trace.face)].push_back(piece);
+    const double step = (end - trace.tip).norm();
+    d.pieces[std::size_t(trace.face)].push_back(
+        {t, trace.tip, end, trace.length, trace.length + step});
     trace.length += step;
     if (!trace.running) continue;
     if (trace.length > maxLength)
@@ -368,22 +482,52 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
                         " meets no other trace within " + std::to_string(options.maxTraceLength) +
                         " times the surface's size");
     const Motion& m = d.faces[std::size_t(trace.face)].across[std::size_t(exit.edge)];
-    trace.tip = m.apply(piece.b);
+    trace.tip = m.apply(end);
     trace.direction = (m.rotation * trace.direction).normalized();
     trace.face = d.faces[std::size_t(trace.face)].neighbour[std::size_t(exit.edge)];
     queue.emplace(trace.length, t);
   }
 
+  // A trace that ended where the trace it met stopped head-on crosses the two there: it ends at
+  // their node, and so do the traces that met it head-on. Their ways back were counted from the
+  // forward direction of the trace met, which is opposite to its way back.
+  for (std::size_t t = 0; t < d.traces.size(); ++t) {
+    Trace& trace = d.traces[t];
+    if (trace.endTrace < 0) continue;
+    const Trace& met = d.traces[std::size_t(trace.endTrace)];
+    if (met.endTrace >= 0 || met.length - trace.endArc > 1e-6 * d.scale) continue;
+    const int owner = met.joinTrace >= 0 ? met.joinTrace : trace.endTrace;
+    if (owner == int(t))
+      throw SolverError("motorcycle layout: trace " + std::to_string(t) +
+                        " and the trace it ended on met each other's ends");
+    const int shift = met.endSlot + 2;
+    for (Trace& other : d.traces)
+      if (other.joinTrace == int(t)) {
+        other.joinTrace = owner;
+        other.endSlot = (other.endSlot + shift) % 4;
+      }
+    trace.joinTrace = owner;
+    trace.endSlot = (trace.endSlot + shift) % 4;
+    trace.endTrace = -1;
+  }
+
   // The graph: nodes at cones and trace ends, segments between consecutive nodes of a trace.
   for (Trace& trace : d.traces) {
+    if (trace.joinTrace >= 0) continue;
     trace.endNode = int(d.nodes.size());
     d.nodes.push_back({-1, 4});
   }
+  for (Trace& trace : d.traces)
+    if (trace.joinTrace >= 0) trace.endNode = d.traces[std::size_t(trace.joinTrace)].endNode;
   std::vector<std::vector<std::pair<double, int>>> breaks(d.traces.size());
   for (std::size_t t = 0; t < d.traces.size(); ++t) {
     const Trace& trace = d.traces[t];
     breaks[t].emplace_back(0.0, trace.coneNode);
     breaks[t].emplace_back(trace.length, trace.endNode);
+    if (trace.endTrace < 0) continue;
+    if (trace.endArc > d.traces[std::size_t(trace.endTrace)].length)
+      throw SolverError("motorcycle layout: trace " + std::to_string(t) +
+                        " ended on a trace at a point that trace never reached");
     breaks[std::size_t(trace.endTrace)].emplace_back(trace.endArc, trace.endNode);
   }
   // Outgoing half-edges at each node with their angle (quarter turns, counter-clockwise).
@@ -405,8 +549,9 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
     const Trace& trace = d.traces[t];
     const auto& own = d.traceSegments[t];
     outgoing[std::size_t(trace.coneNode)].emplace_back(trace.coneIndex, 2 * own.front());
-    outgoing[std::size_t(trace.endNode)].emplace_back(trace.fromLeft ? 1 : 3, 2 * own.back() + 1);
-    // Where it ended, the other trace runs on (angle 0) and back (angle 2).
+    // At the end node: its way back, and the trace it ended on runs on at 0 and back at 2.
+    outgoing[std::size_t(trace.endNode)].emplace_back(trace.endSlot, 2 * own.back() + 1);
+    if (trace.endTrace < 0) continue;
     for (int s : d.traceSegments[std::size_t(trace.endTrace)]) {
       if (d.segments[std::size_t(s)].from == trace.endNode)
         outgoing[std::size_t(trace.endNode)].emplace_back(0, 2 * s);
@@ -419,7 +564,13 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
     auto& list = outgoing[n];
     std::sort(list.begin(), list.end());
     const int total = d.nodes[n].quarterTurns;
-    if (list.size() != (d.nodes[n].vertex >= 0 ? std::size_t(total) : 3u))
+    // A cone: one trace per quarter turn. Elsewhere two (traces met head-on), three (a trace
+    // ended on another) or four (and one met it head-on), at distinct angles.
+    bool distinct = true;
+    for (std::size_t k = 1; k < list.size(); ++k) distinct &= list[k].first != list[k - 1].first;
+    const bool fits =
+        d.nodes[n].vertex >= 0 ? list.size() == std::size_t(total) : list.size() >= 2 && distinct;
+    if (!fits)
       throw SolverError("motorcycle layout: node " + std::to_string(n) + " has " +
                         std::to_string(list.size()) + " traces leaving it");
     for (std::size_t k = 0; k < list.size(); ++k) {
@@ -475,6 +626,14 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
         ++side;
       }
     }
+    // Opposite sides differ by rounding, or by 1e-8 where traces met head-on; more means the
+    // graph missed a crossing (traces that meet at a point where several events coincide).
+    const double mismatch = std::max(std::abs(rectangle.sideLength[0] - rectangle.sideLength[2]),
+                                     std::abs(rectangle.sideLength[1] - rectangle.sideLength[3]));
+    if (mismatch > 1e-4 * d.scale)
+      throw SolverError("motorcycle layout: face " + std::to_string(d.rectangles.size()) +
+                        " of the trace graph has opposite sides " + std::to_string(mismatch) +
+                        " apart (traces crossed where the graph has no node)");
     d.rectangles.push_back(rectangle);
   }
 }

@@ -4,9 +4,13 @@
 // of pi/2 and the holonomy consists of quarter turns, the two axis directions of any face frame
 // carried across the surface agree everywhere (a cross field without singularities away from the
 // cones). From every cone a straight trace leaves along each axis direction (k traces at a cone
-// of angle k pi/2); all traces grow at the same pace and one stops where it meets another. The
-// traces cut the surface into rectangles: each face of the graph has four corners of pi/2 (at cones
-// between consecutive traces, and at the ends of traces, which are T-nodes) and straight sides.
+// of angle k pi/2); all traces grow at the same pace and one stops where it meets another. Two
+// traces on one line running towards each other (on symmetric surfaces and polyhedra, from cones
+// facing each other or a trace aimed exactly at a cone) meet head-on half-way and end at one node,
+// and a trace that reaches such a node crosses it; a trace that crossed a whole face in one step
+// stops where a trace that got there first crossed its path. The traces cut the surface into
+// rectangles: each face of the graph has four corners of pi/2 (at cones between consecutive
+// traces, and at the ends of traces, which are T-nodes) and straight sides.
 //
 // The rectangles are the charts of a quad layout; spline/tspline/layout_tmesh.h gives each side an
 // integer length and grids every rectangle into unit cells, which makes a seamless quad mesh whose
@@ -31,7 +35,8 @@ struct MotorcycleLayoutOptions {
   double maxTraceLength = 50.0;
 };
 
-/// A node of the layout: a cone, or the point where a trace ended on another trace.
+/// A node of the layout: a cone, the point where a trace ended on another trace, or where traces
+/// met head-on (two of them, or four where two such pairs cross).
 struct LayoutNode {
   /// The cone's mesh vertex, or -1 for a T-node.
   int vertex = -1;
@@ -80,7 +85,8 @@ class MotorcycleLayout {
   /// InputError for a mesh with boundary, lengths of the wrong size, a metric without cones;
   /// SolverError when a cone angle or the holonomy is not a multiple of pi/2 (the flattening
   /// before failed to quantize them), a trace does not end or a face of the graph is not a
-  /// rectangle (named, with its corner count).
+  /// rectangle (named, with its corner count or the mismatch of its opposite sides: events that
+  /// coincide in ways the tracing does not resolve, e.g. crossings at a mesh vertex).
   MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& lengths,
                    const MotorcycleLayoutOptions& options = {});
   ~MotorcycleLayout();
