@@ -98,7 +98,8 @@ Json flatteningJson(const Flattening& flattening, const FlattenOptions& options,
   Json report{{"file", options.name},
               {"scheme", metricSchemeName(options.scheme)},
               {"cones", cones},
-              {"flips", flattening.flips}};
+              {"flips", flattening.flips},
+              {"rejected_cone_counts", flattening.rejectedConeCounts}};
   if (flattening.plainSolve) {
     report["plain_solver"] = {{"message", flattening.plainSolve->message},
                               {"iterations", flattening.plainSolve->iterations}};

@@ -114,6 +114,9 @@ Flattening::SeamRotations seamRotations(const FlatLayout& layout) {
   return rotations;
 }
 
+// At most this many automatic cone sets in all when the handle rotations cannot be quantized.
+constexpr int kMaxConeRetries = 8;
+
 }  // namespace
 
 std::string metricSchemeName(MetricScheme scheme) {
@@ -128,13 +131,15 @@ std::string metricSchemeName(MetricScheme scheme) {
   return "yamabe";
 }
 
-Flattening flattenSurface(const TriMesh& mesh, const FlattenOptions& options,
-                          const Progress& progress) {
+namespace {
+
+// One flattening with the given cones; `clock` started before the cones were chosen.
+Flattening flattenWithCones(const TriMesh& mesh, const FlattenOptions& options,
+                            std::vector<Cone> chosen, Stopwatch& clock, const Progress& progress) {
   const std::string named = options.name.empty() ? "" : options.name + ": ";
-  Stopwatch clock;
   Flattening out;
   out.input = &mesh;
-  out.cones = chooseCones(mesh, options);
+  out.cones = std::move(chosen);
   const std::vector<Cone>& cones = out.cones;
   out.stageSeconds.emplace_back("cones", clock.lap());
   const auto topology = analyzeTopology(mesh);
@@ -184,8 +189,10 @@ Flattening flattenSurface(const TriMesh& mesh, const FlattenOptions& options,
 
   out.flatLengths = out.overlay ? out.overlay->edgeLengths : flow.edgeLengths;
   // Quantized cones make the rotations around cones quarter turns; on a closed surface with
-  // handles the rotations along the handles must be made so too.
-  if (options.quantize && topology.closed && topology.genus >= 1) {
+  // handles the rotations along the handles must be made so too (on a torus without cones they
+  // are no rotations at all).
+  if (options.quantize && topology.closed && topology.genus >= 1 &&
+      !(topology.genus == 1 && cones.empty())) {
     report(progress,
            "quantizing the rotation along " + std::to_string(2 * topology.genus) + " handle loops");
     HolonomyQuantizationResult& holonomy = out.holonomy.emplace();
@@ -216,6 +223,79 @@ Flattening flattenSurface(const TriMesh& mesh, const FlattenOptions& options,
                     ? flow.message
                     : named + "the layout has " + std::to_string(out.layout.flippedTriangles) +
                           " flipped triangles";
+  return out;
+}
+
+bool holonomyFailed(const Flattening& flattening) {
+  return flattening.holonomy && !flattening.holonomy->converged;
+}
+
+bool sameCones(const std::vector<Cone>& a, const std::vector<Cone>& b) {
+  return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const Cone& x, const Cone& y) {
+    return x.vertex == y.vertex && x.curvature == y.curvature;
+  });
+}
+
+// Cone counts to ask the placement for when `placed` cones leave handle rotations that cannot be
+// quantized: a few more first (lower distortion), then fewer, down to none on a torus.
+std::vector<int> retryConeCounts(int placed, int genus) {
+  std::vector<int> counts;
+  for (int more = 1; more <= 4; ++more) counts.push_back(placed + more);
+  for (int fewer = placed - 1; fewer >= (genus == 1 ? 0 : 1); --fewer) counts.push_back(fewer);
+  return counts;
+}
+
+}  // namespace
+
+Flattening flattenSurface(const TriMesh& mesh, const FlattenOptions& options,
+                          const Progress& progress) {
+  Stopwatch clock;
+  Flattening out = flattenWithCones(mesh, options, chooseCones(mesh, options), clock, progress);
+  const bool automatic = !options.cones && !options.singleCone && options.coneCount < 0;
+  if (!automatic || !holonomyFailed(out)) return out;
+
+  // The handle rotations depend on where the cones are; the Newton steps that quantize them can
+  // degenerate the fixed triangulation for one cone set and not for another. Other automatic
+  // cone sets are tried, first one that works wins.
+  const int genus = analyzeTopology(mesh).genus;
+  std::vector<std::vector<Cone>> tried{out.cones};
+  std::vector<int> rejected{int(out.cones.size())};
+  std::vector<std::pair<std::string, double>> spent = out.stageSeconds;
+  for (const int count : retryConeCounts(int(out.cones.size()), genus)) {
+    if (int(tried.size()) > kMaxConeRetries) break;
+    FlattenOptions retry = options;
+    retry.coneCount = count;
+    std::vector<Cone> cones;
+    try {
+      cones = chooseCones(mesh, retry);
+    } catch (const InputError&) {
+      continue;  // a cone angle would come out too small for this count
+    }
+    if (std::any_of(tried.begin(), tried.end(),
+                    [&](const std::vector<Cone>& other) { return sameCones(cones, other); }))
+      continue;
+    tried.push_back(cones);
+    report(progress, "the handle rotations with " + std::to_string(rejected.back()) +
+                         " cones could not be quantized; trying " + std::to_string(cones.size()) +
+                         " cones");
+    Flattening candidate = flattenWithCones(mesh, retry, std::move(cones), clock, progress);
+    for (const auto& [name, seconds] : candidate.stageSeconds) {
+      const auto same = std::find_if(spent.begin(), spent.end(),
+                                     [&](const auto& stage) { return stage.first == name; });
+      if (same == spent.end())
+        spent.emplace_back(name, seconds);
+      else
+        same->second += seconds;
+    }
+    if (candidate.converged && !holonomyFailed(candidate)) {
+      candidate.rejectedConeCounts = rejected;
+      candidate.stageSeconds = spent;
+      return candidate;
+    }
+    rejected.push_back(int(candidate.cones.size()));
+  }
+  out.stageSeconds = spent;
+  out.rejectedConeCounts = rejected;
   return out;
 }
 

@@ -80,11 +80,16 @@ struct Flattening {
   /// With an overlay: interior edges between boundary vertices split before doubling.
   int splitEdges = 0;
 
-  /// The handle rotations made quarter turns (quantize on a closed surface of genus >= 1). When
+  /// The handle rotations made quarter turns (quantize on a closed surface of genus >= 1 but a
+  /// torus without cones, whose flat metric rotates along no loop). When
   /// it did not converge the flat metric stays the conformal one and seams across handles turn by
   /// arbitrary angles.
   std::optional<HolonomyQuantizationResult> holonomy;
 
+  /// Automatic cones only: the sizes of the cone sets tried first, in order, whose handle
+  /// rotations could not be quantized (empty when the first set worked). When the last set tried
+  /// failed too, `holonomy` reports it.
+  std::vector<int> rejectedConeCounts;
   /// Per input vertex, the factor exp(2u) by which the flat metric scales area (u shifted so that
   /// the flat metric has the input's total area): its range and mean.
   struct AreaDistortion {
@@ -101,7 +106,7 @@ struct Flattening {
   SeamRotations seamRotations;
 
   /// Wall-clock seconds per stage, in order: cones, ricci_flow, ricci_flow_flips (fallback),
-  /// holonomy (quantization), layout.
+  /// holonomy (quantization), layout; summed over the cone sets tried (rejectedConeCounts).
   std::vector<std::pair<std::string, double>> stageSeconds;
 
   /// The flow converged and the layout has no flipped triangle.
@@ -110,7 +115,10 @@ struct Flattening {
   std::string message;
 };
 
-/// Flattens `mesh`. Non-convergence of the flow or a layout with flipped triangles is reported in
+/// Flattens `mesh`. With automatic cones (no `cones`, `coneCount` -1, not `singleCone`) whose
+/// handle rotations cannot be quantized, other automatic cone sets are tried (a few more cones,
+/// then fewer, down to none on a torus; at most 8 sets), and the first that works is kept.
+/// Non-convergence of the flow or a layout with flipped triangles is reported in
 /// the result (Flattening::converged false, with a message), not thrown; invalid options
 /// (a rectangle boundary on a surface with two boundary loops, cones out of range) throw
 /// InputError. `mesh` must outlive the result (Flattening::surface() may refer to it). Progress:

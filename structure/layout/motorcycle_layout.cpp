@@ -9,6 +9,7 @@
 
 #include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/ricci/vertex_scaling_energy.h"
 
 namespace mspline::structure {
 
@@ -269,9 +270,11 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
     }
     const double l01 = lengths[h[1].edge().idx()], l12 = lengths[h[2].edge().idx()],
                  l20 = lengths[h[0].edge().idx()];
+    // The height from the area as Kahan computes it: sqrt(l20^2 - x^2) loses the height of the
+    // needles the flip overlay has, and their frames turned by 2e-3 rad.
     const double x = (l01 * l01 + l20 * l20 - l12 * l12) / (2.0 * l01);
     face.corner = {Eigen::Vector2d::Zero(), Eigen::Vector2d(l01, 0.0),
-                   Eigen::Vector2d(x, std::sqrt(std::max(0.0, l20 * l20 - x * x)))};
+                   Eigen::Vector2d(x, fourTimesArea(l01, l12, l20) / (2.0 * l01))};
     area += 0.5 * cross(face.corner[1], face.corner[2]);
   }
   d.scale = std::sqrt(area);
