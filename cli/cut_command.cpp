@@ -39,8 +39,10 @@ void addCutCommand(CLI::App& app, Command& command) {
   auto* sub = app.add_subcommand(
       "cut",
       "Cut a surface into one topological disk. Closed surfaces of genus g >= 1 are cut along a "
-      "one-vertex system of 2g loops (refining the mesh where the loops need room), so the disk "
-      "boundary reads a1 b1 a1^-1 b1^-1 ...; bounded surfaces also along paths to each boundary.");
+      "one-vertex system of 2g loops (crossing the faces: points are added on edges and one inside "
+      "a face), so the disk boundary reads a1 b1 a1^-1 b1^-1 ... (when canonical form fits in the "
+      "size budget; otherwise 4g sides in another order); bounded surfaces also along paths to "
+      "each boundary.");
   sub->add_option("MESH", arguments->mesh, "Mesh file (must pass validation)")->required();
   sub->add_option("-o,--output", arguments->output, "The cut-open disk (OBJ, OFF, PLY or STL)")
       ->required();
@@ -65,31 +67,37 @@ void addCutCommand(CLI::App& app, Command& command) {
       io::writeMesh(arguments->output, cut.disk);
       const double seconds = clock.lap();
       if (command.json) {
-        printJson({{"file", arguments->mesh},
-                   {"output", arguments->output},
-                   {"genus", cut.genus},
-                   {"disk_euler", cut.diskEuler},
-                   {"disk_boundary_loops", cut.diskBoundaryLoops},
-                   {"disk_components", cut.diskComponents},
-                   {"disk_vertices", cut.disk.n_vertices()},
-                   {"disk_faces", cut.disk.n_faces()},
-                   {"segments", cut.segments.size()},
-                   {"word", cut.word},
-                   {"one_vertex_schema", cut.oneVertexSchema},
-                   {"canonical", cut.canonical},
-                   {"refinements", cut.refinements},
-                   {"edge_splits", cut.edgeSplits},
-                   {"cut_edges", cut.cutEdges.size()},
-                   {"base_vertex", cut.baseVertex},
-                   {"seconds", seconds},
-                   {"boundary_segments", segmentsJson(cut)}});
+        Json report{{"file", arguments->mesh},
+                    {"output", arguments->output},
+                    {"genus", cut.genus},
+                    {"disk_euler", cut.diskEuler},
+                    {"disk_boundary_loops", cut.diskBoundaryLoops},
+                    {"disk_components", cut.diskComponents},
+                    {"disk_vertices", cut.disk.n_vertices()},
+                    {"disk_faces", cut.disk.n_faces()},
+                    {"segments", cut.segments.size()},
+                    {"word", cut.word},
+                    {"one_vertex_schema", cut.oneVertexSchema},
+                    {"canonical", cut.canonical},
+                    {"refinements", cut.refinements},
+                    {"edge_splits", cut.edgeSplits},
+                    {"cut_edges", cut.cutEdges.size()},
+                    {"base_vertex", cut.baseVertex},
+                    {"seconds", seconds},
+                    {"boundary_segments", segmentsJson(cut)}};
+        if (!cut.notCanonicalBecause.empty())
+          report["not_canonical_because"] = cut.notCanonicalBecause;
+        printJson(report);
       } else {
         std::cout << "disk: euler " << cut.diskEuler << ", " << cut.diskBoundaryLoops
                   << " boundary loop(s), " << cut.segments.size() << " segments, "
                   << cut.disk.n_faces() << " faces (" << cut.refinements << " refinements, "
                   << cut.edgeSplits << " edge splits)\nword: " << cut.word
-                  << (cut.canonical ? " (canonical)" : "") << "\nwrote " << arguments->output
-                  << std::endl;
+                  << (cut.canonical ? " (canonical)" : "")
+                  << (cut.notCanonicalBecause.empty()
+                          ? ""
+                          : "\nnot canonical: " + cut.notCanonicalBecause)
+                  << "\nwrote " << arguments->output << std::endl;
       }
       return int(kExitSuccess);
     };

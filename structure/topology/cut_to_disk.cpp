@@ -144,9 +144,24 @@ CutResult cutToDisk(const TriMesh& mesh, const CutOptions& options) {
   const bool loopCut = options.oneVertexSchema && basis.boundaryLoops.empty() && basis.genus > 0;
   LoopSystem system;
   std::vector<int> cutEdges;
+  std::string notCanonicalBecause;
   if (loopCut) {
     system = buildOneVertexLoops(work, basis);
-    if (options.canonicalSchema) canonicalizeLoops(work, system);
+    if (options.canonicalSchema) {
+      // Canonical form re-routes loops through the disk, which on a surface of high genus for its
+      // resolution (cheese.off: genus 133, 8,600 vertices) outgrows the budget; the one-vertex
+      // schema is then kept as it was built.
+      GrowingSurface built{std::make_unique<TriMesh>(*work.surface), work.refinements,
+                           work.edgeSplits, work.maxRefinements, work.maxVertices};
+      LoopSystem builtSystem = system;
+      try {
+        canonicalizeLoops(work, system);
+      } catch (const SolverError& error) {
+        notCanonicalBecause = error.what();
+        work = std::move(built);
+        system = std::move(builtSystem);
+      }
+    }
     cutEdges = edgesOfPaths(*work.surface, system.loops);
   } else {
     cutEdges = generalCutEdges(work, basis, basisOptions);
@@ -162,6 +177,7 @@ CutResult cutToDisk(const TriMesh& mesh, const CutOptions& options) {
   result.boundaryLoop = opened.boundaryLoop;
   const int inputVertices = static_cast<int>(mesh.n_vertices());
   for (int v : result.surfaceVertex) result.inputVertex.push_back(v < inputVertices ? v : -1);
+  result.notCanonicalBecause = notCanonicalBecause;
   if (loopCut) {
     result.oneVertexSchema = true;
     result.baseVertex = system.center;

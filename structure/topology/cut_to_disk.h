@@ -60,9 +60,9 @@ struct CutResult {
   /// For each disk vertex, the input vertex it copies, or -1 for a vertex added by a split or a
   /// refinement (such vertices lie on input edges or faces, so the disk is the input surface).
   std::vector<int> inputVertex;
-  /// Whole-mesh midpoint refinements and single edge splits applied to the input (the one-vertex
-  /// schema splits edges to route its loops; refinement is rare: very coarse meshes, or bounded
-  /// ones where a cut path cannot avoid touching another boundary).
+  /// Whole-mesh midpoint refinements and points added on edges (the one-vertex schema's loops cross
+  /// edges there, its canonical form splits edges to route new loops; refinement is rare: bounded
+  /// meshes where a cut path cannot avoid touching another boundary).
   int refinements = 0;
   int edgeSplits = 0;
   /// Sorted indices of the edges of `surface` that were cut.
@@ -87,6 +87,9 @@ struct CutResult {
   /// the canonical a1 b1 a1^-1 b1^-1 ... (never claimed for spheres and bounded surfaces).
   bool oneVertexSchema = false;
   bool canonical = false;
+  /// Empty, or why the one-vertex schema asked to be canonical is not (canonical form outgrew
+  /// maxGrowth or maxRefinements; the schema is then the one built, with 4g sides).
+  std::string notCanonicalBecause;
   /// Computed on `disk`: V - E + F, number of boundary loops and components (1, 1, 1 for a disk).
   long diskEuler = 0;
   std::size_t diskBoundaryLoops = 0;
@@ -96,7 +99,10 @@ struct CutResult {
 /// Cuts the surface to a disk. Throws TopologyError for empty, non-manifold or disconnected
 /// meshes, SolverError when the cut does not fit within maxRefinements refinements or maxGrowth.
 /// The general cut (bounded surfaces, spheres, oneVertexSchema off) runs along input edges
-/// unless a refinement was needed; the one-vertex schema always adds vertices.
+/// unless a refinement was needed; the one-vertex schema always adds vertices: its loops cross
+/// input faces (points on input edges, the common vertex inside a face), which bounds its size
+/// by the input's times the genus, while canonical form may outgrow the budget and is then
+/// given up (CutResult::notCanonicalBecause).
 CutResult cutToDisk(const TriMesh& mesh, const CutOptions& options = {});
 
 }  // namespace mspline::structure

@@ -55,10 +55,9 @@ int splitEdge(GrowingSurface& work, int a, int b) {
 
 void checkGrowth(const GrowingSurface& work) {
   if (work.surface->n_vertices() <= work.maxVertices) return;
-  throw SolverError("the one-vertex system of loops needs more than " +
-                    std::to_string(work.maxVertices) +
-                    " vertices on this mesh (genus too high for its resolution); raise "
-                    "CutOptions::maxGrowth or cut with oneVertexSchema off");
+  throw SolverError("the loops need more than " + std::to_string(work.maxVertices) +
+                    " vertices on this mesh (genus too high for its resolution; the budget is "
+                    "CutOptions::maxGrowth)");
 }
 
 void refineSurface(GrowingSurface& work, std::vector<std::vector<int>>& paths) {

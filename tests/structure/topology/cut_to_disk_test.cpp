@@ -1,7 +1,10 @@
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <map>
 #include <set>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "mspline/io/load_mesh.h"
 #include "mspline/structure/core/errors.h"
@@ -35,6 +38,16 @@ std::vector<std::string> words(const std::string& text) {
   std::vector<std::string> tokens;
   for (std::string t; in >> t;) tokens.push_back(t);
   return tokens;
+}
+
+double area(const TriMesh& mesh) {
+  double sum = 0.0;
+  for (auto f : mesh.faces()) {
+    std::vector<OpenMesh::Vec3d> p;
+    for (auto v : mesh.fv_range(f)) p.push_back(mesh.point(v));
+    sum += 0.5 * OpenMesh::cross(p[1] - p[0], p[2] - p[0]).norm();
+  }
+  return sum;
 }
 
 // Properties every cut must have, checked from the meshes rather than from the reported numbers.
@@ -184,18 +197,45 @@ TEST_CASE("cut_to_disk: genus-4 generated surface", "[structure]") {
   checkSchema(mesh, cutToDisk(mesh), 4);
 }
 
-TEST_CASE("cut_to_disk: a very coarse genus-3 mesh is refined, within the allowed refinements",
-          "[structure]") {
-  // 3torus.off has 19 vertices: too few to route 12 loop ends out of one vertex.
+TEST_CASE("cut_to_disk: a very coarse genus-3 mesh is cut without refinement", "[structure]") {
+  // 3torus.off has 19 vertices for 12 loop ends out of one vertex: the loops cross faces, several
+  // abreast where they share a face of the dual tree, so no refinement is needed.
   const TriMesh mesh = test::realMesh("3torus.off");
-  const CutResult r = cutToDisk(mesh);
-  checkSchema(mesh, r, 3);
-  CHECK(r.refinements >= 1);
-  CHECK(r.surface.n_faces() > 4 * mesh.n_faces());
-  CHECK(std::count(r.inputVertex.begin(), r.inputVertex.end(), -1) > 0);
   CutOptions options;
   options.maxRefinements = 0;
-  CHECK_THROWS_AS(cutToDisk(mesh, options), structure::SolverError);
+  const CutResult r = cutToDisk(mesh, options);
+  checkSchema(mesh, r, 3);
+  CHECK(r.refinements == 0);
+  CHECK(r.edgeSplits > 0);
+  CHECK(r.notCanonicalBecause.empty());
+  CHECK(std::count(r.inputVertex.begin(), r.inputVertex.end(), -1) > 0);
+  // The points added lie on the input's faces: the surface cut is the input surface.
+  CHECK(area(r.surface) == Approx(area(mesh)).epsilon(1e-12));
+}
+
+TEST_CASE("cut_to_disk: genus 9 on 2,100 vertices", "[structure]") {
+  // couplingdown.off: routing 36 loop ends one by one, each splitting the edges it touched, grew
+  // the mesh past 64 times its size; crossing faces, the loops take about genus times its size.
+  const TriMesh mesh = test::realMesh("couplingdown.off");
+  const CutResult r = cutToDisk(mesh);
+  checkSchema(mesh, r, 9);
+  CHECK(r.refinements == 0);
+  CHECK(area(r.surface) == Approx(area(mesh)).epsilon(1e-12));
+  CHECK(r.surface.n_vertices() < 2 * 9 * mesh.n_vertices());
+}
+
+TEST_CASE("cut_to_disk: genus 133 on 8,600 vertices keeps the one-vertex schema it built",
+          "[structure][slow]") {
+  // cheese.off: canonical form outgrows the size budget, the 532-gon is kept in the order built.
+  const TriMesh mesh = test::realMesh("cheese.off");
+  const CutResult r = cutToDisk(mesh);
+  checkDisk(mesh, r);
+  CHECK(r.genus == 133);
+  CHECK(r.oneVertexSchema);
+  CHECK_FALSE(r.canonical);
+  CHECK(r.segments.size() == 4 * 133);
+  CHECK(r.notCanonicalBecause.find("vertices on this mesh") != std::string::npos);
+  CHECK(r.word.find("x1") != std::string::npos);
 }
 
 TEST_CASE("cut_to_disk: without canonical form the one-vertex schema still has 4g sides",
