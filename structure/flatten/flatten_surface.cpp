@@ -114,8 +114,9 @@ Flattening::SeamRotations seamRotations(const FlatLayout& layout) {
   return rotations;
 }
 
-// At most this many automatic cone sets in all when the handle rotations cannot be quantized.
-constexpr int kMaxConeRetries = 8;
+// At most this many automatic cone sets in all when the handle rotations cannot be quantized
+// (knot.off needed 2, joint.off 4; each costs a flattening).
+constexpr int kMaxConeSets = 4;
 
 }  // namespace
 
@@ -262,7 +263,7 @@ Flattening flattenSurface(const TriMesh& mesh, const FlattenOptions& options,
   std::vector<int> rejected{int(out.cones.size())};
   std::vector<std::pair<std::string, double>> spent = out.stageSeconds;
   for (const int count : retryConeCounts(int(out.cones.size()), genus)) {
-    if (int(tried.size()) > kMaxConeRetries) break;
+    if (int(tried.size()) == kMaxConeSets) break;
     FlattenOptions retry = options;
     retry.coneCount = count;
     std::vector<Cone> cones;
@@ -278,7 +279,16 @@ Flattening flattenSurface(const TriMesh& mesh, const FlattenOptions& options,
     report(progress, "the handle rotations with " + std::to_string(rejected.back()) +
                          " cones could not be quantized; trying " + std::to_string(cones.size()) +
                          " cones");
-    Flattening candidate = flattenWithCones(mesh, retry, std::move(cones), clock, progress);
+    const int placed = int(cones.size());
+    Flattening candidate;
+    try {
+      candidate = flattenWithCones(mesh, retry, std::move(cones), clock, progress);
+    } catch (const Error& error) {
+      // Another cone set is only a chance; the first set's result and message stand.
+      report(progress, std::string("that failed: ") + error.what());
+      rejected.push_back(placed);
+      continue;
+    }
     for (const auto& [name, seconds] : candidate.stageSeconds) {
       const auto same = std::find_if(spent.begin(), spent.end(),
                                      [&](const auto& stage) { return stage.first == name; });

@@ -117,7 +117,8 @@ struct Flattening {
 
 /// Flattens `mesh`. With automatic cones (no `cones`, `coneCount` -1, not `singleCone`) whose
 /// handle rotations cannot be quantized, other automatic cone sets are tried (a few more cones,
-/// then fewer, down to none on a torus; at most 8 sets), and the first that works is kept.
+/// then fewer, down to none on a torus; at most 4 sets in all), and the first that works is kept;
+/// a set whose flattening throws is passed over.
 /// Non-convergence of the flow or a layout with flipped triangles is reported in
 /// the result (Flattening::converged false, with a message), not thrown; invalid options
 /// (a rectangle boundary on a surface with two boundary loops, cones out of range) throw
