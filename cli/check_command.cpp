@@ -42,6 +42,10 @@ Json tsplineReport(const std::string& file, const spline::CheckResult& result) {
           {"partition_of_unity_required", result.partitionOfUnityRequired},
           {"hole_samples", check.holeSamples},
           {"min_denominator", check.minDenominator},
+          {"cones", check.cones},
+          {"max_cone_normal_spread", check.maxConeNormalSpread},
+          {"worst_cone", check.worstCone},
+          {"cones_spread_over_1e-3", check.conesSpreadOver1e3},
           {"control_points", result.controlPoints},
           {"missing_anchors", result.missingAnchors},
           {"degree", result.degree},
@@ -73,7 +77,10 @@ void printSummary(const spline::CheckResult& result) {
     std::cout << check.samples << " samples: chart discrepancy " << result.maxChartDiscrepancy
               << " of the diagonal, partition of unity " << check.partitionOfUnityError << " ("
               << check.normalizedSamples << " samples normalized, " << check.holeSamples
-              << " in holes)" << failed << std::endl;
+              << " in holes)" << failed << "\n"
+              << check.cones << " cones: normals 1e-3 cells around them spread by up to "
+              << check.maxConeNormalSpread << " rad (" << check.conesSpreadOver1e3 << " over 1e-3)"
+              << std::endl;
     return;
   }
   const spline::TriBSplineCheck& check = result.triBSpline;

@@ -41,6 +41,15 @@ struct TSplineCheck {
   /// Samples in a hole (no blending function) and the smallest positive denominator met.
   int holeSamples = 0;
   double minDenominator = 0.0;
+  /// Surfaces in 3-space: the cones (extraordinary vertices with cap faces) and the angle between
+  /// the normals at 1e-3 knot intervals from each, in three directions per face around it (the
+  /// face's corner split in four): G1 at the cone makes it O(1e-3). The largest (radians; pi where
+  /// a normal is undefined), at which cone (T-mesh vertex, -1 without cones), and how many cones
+  /// exceed 1e-3.
+  int cones = 0;
+  double maxConeNormalSpread = 0.0;
+  int worstCone = -1;
+  int conesSpreadOver1e3 = 0;
 };
 
 TSplineCheck checkTSpline(const TSplineSpace& space, const Eigen::MatrixXd& control,
