@@ -289,13 +289,13 @@ Flattening flattenSurface(const TriMesh& mesh, const FlattenOptions& options,
       rejected.push_back(placed);
       continue;
     }
-    for (const auto& [name, seconds] : candidate.stageSeconds) {
+    for (const auto& stage : candidate.stageSeconds) {
       const auto same = std::find_if(spent.begin(), spent.end(),
-                                     [&](const auto& stage) { return stage.first == name; });
+                                     [&](const auto& other) { return other.first == stage.first; });
       if (same == spent.end())
-        spent.emplace_back(name, seconds);
+        spent.push_back(stage);
       else
-        same->second += seconds;
+        same->second += stage.second;
     }
     if (candidate.converged && !holonomyFailed(candidate)) {
       candidate.rejectedConeCounts = rejected;
