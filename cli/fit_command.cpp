@@ -187,7 +187,9 @@ void addFitCommand(CLI::App& app, Command& command) {
                   {"flatten",
                    {{"converged", fit.flatten.converged},
                     {"max_curvature_error", fit.flatten.maxCurvatureError},
-                    {"flips", fit.flatten.flips}}},
+                    {"flips", fit.flatten.flips},
+                    {"cones", fit.flatten.cones},
+                    {"rejected_cone_counts", fit.flatten.rejectedConeCounts}}},
                   {"quality", Json::parse(io::qualityJson(fit.quality))},
                   {"seconds", total.lap()},
                   {"stage_seconds", stages}};

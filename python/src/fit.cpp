@@ -76,6 +76,8 @@ py::dict fitReport(const spline::FitResult& result, const spline::FitOptions& op
   flatten["converged"] = result.flatten.converged;
   flatten["max_curvature_error"] = result.flatten.maxCurvatureError;
   flatten["flips"] = result.flatten.flips;
+  flatten["cones"] = result.flatten.cones;
+  flatten["rejected_cone_counts"] = result.flatten.rejectedConeCounts;
   report["flatten"] = flatten;
   report["warnings"] = result.warnings;
   py::dict seconds;

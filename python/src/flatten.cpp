@@ -64,6 +64,7 @@ py::dict flatteningDict(const structure::Flattening& flattening) {
   out["F"] = trianglesArray(faces);
   out["uvs"] = uvs;
   out["cones"] = cones;
+  out["rejected_cone_counts"] = flattening.rejectedConeCounts;
   out["converged"] = flattening.converged;
   out["message"] = flattening.message;
   out["iterations"] = flattening.flow.iterations;

@@ -66,6 +66,14 @@ def test_a_torus_flattens_without_cones(data_dir):
     assert flat["converged"] is True and flat["cones"] == []
 
 
+def test_automatic_cones_are_placed_again_where_handles_cannot_be_quantized(data_dir):
+    # knot.off: the 8 cones placed first leave handle rotations that cannot be quantized.
+    flat = mspline.flatten(*mspline.read_mesh(data_dir / "knot.off"), quantize=True)
+    assert flat["converged"] is True
+    assert flat["rejected_cone_counts"] and flat["rejected_cone_counts"][0] == 8
+    assert len(flat["cones"]) not in flat["rejected_cone_counts"]
+
+
 def test_flatten_checks_its_arguments(eight):
     V, F = eight
     with pytest.raises(ValueError, match="scheme"):

@@ -251,7 +251,8 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
     flattenOptions.maxConeQuarterTurns = 2;
   }
   const Flattening flattening = flattenSurface(mesh, flattenOptions, progress);
-  result.flatten = {flattening.converged, flattening.flow.maxCurvatureError, flattening.flips};
+  result.flatten = {flattening.converged, flattening.flow.maxCurvatureError, flattening.flips,
+                    int(flattening.cones.size()), flattening.rejectedConeCounts};
   for (const auto& [stage, seconds] : flattening.stageSeconds)
     addStageSeconds(result.stageSeconds, stage, seconds);
   addStageSeconds(result.stageSeconds, "atlas", clock.lap());

@@ -65,6 +65,10 @@ struct FitFlattenFigures {
   bool converged = false;
   double maxCurvatureError = 0.0;
   int flips = 0;
+  /// Cones of the flat metric, and the sizes of the automatic cone sets rejected before them
+  /// (Flattening::rejectedConeCounts).
+  int cones = 0;
+  std::vector<int> rejectedConeCounts;
 };
 
 struct FitResult {
