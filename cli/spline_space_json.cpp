@@ -11,6 +11,7 @@ Json gridJson(const spline::GridFigures& grid) {
             {"extraordinary_points", grid.extraordinaryPoints}};
   return {{"layout", "motorcycle graph"},
           {"traces", grid.traces},
+          {"frame_angle", grid.frameAngle},
           {"rectangles", grid.rectangles},
           {"cell_size", grid.cellSize},
           {"max_rounding_error", grid.maxRoundingError},

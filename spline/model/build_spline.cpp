@@ -97,13 +97,31 @@ void buildTSpline(const BuildSplineOptions& s, const Flattening& flattening,
   } else {
     report(progress, "tracing the rectangle layout from " +
                          std::to_string(flattening.layout.cones.size()) + " cones");
-    layout.emplace(surface, flattening.flatLengths);
-    double flatArea = 0.0;
-    for (const auto& r : layout->rectangles()) flatArea += r.width() * r.height();
+    // The field aligned with face 0 first; on symmetric surfaces (polyhedra) its traces can run
+    // exactly through cones and other traces' ends, which the floating tracing misses: the field
+    // turned by other fractions of a quarter turn moves every trace off them.
     LayoutTMeshOptions quadOptions;
-    quadOptions.cellSize =
-        s.grid > 0.0 ? s.grid * std::sqrt(flatArea) : std::sqrt(flatArea / double(s.control));
-    quads = layoutTMesh(*layout, quadOptions);
+    std::string firstFailure;
+    for (const double turn : {0.0, 0.618, 0.236, 0.854}) {
+      MotorcycleLayoutOptions traceOptions;
+      traceOptions.frameAngle = turn * 0.5 * kPi;
+      try {
+        layout.emplace(surface, flattening.flatLengths, traceOptions);
+        double flatArea = 0.0;
+        for (const auto& r : layout->rectangles()) flatArea += r.width() * r.height();
+        quadOptions.cellSize =
+            s.grid > 0.0 ? s.grid * std::sqrt(flatArea) : std::sqrt(flatArea / double(s.control));
+        quads = layoutTMesh(*layout, quadOptions);
+        setup.grid.frameAngle = traceOptions.frameAngle;
+        break;
+      } catch (const SolverError& failure) {
+        if (firstFailure.empty()) firstFailure = failure.what();
+        layout.reset();
+        report(progress, std::string("layout failed (") + failure.what() +
+                             "); the cross field turned by another fraction of a quarter turn");
+      }
+    }
+    if (!quads) throw SolverError(firstFailure);
     setup.grid.traces = layout->numTraces();
     setup.grid.rectangles = int(layout->rectangles().size());
     setup.grid.cellSize = quadOptions.cellSize;

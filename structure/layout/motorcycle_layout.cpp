@@ -304,6 +304,7 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
     std::vector<char> done(std::size_t(faceCount), 0);
     std::vector<int> stack{0};
     done[0] = 1;
+    d.faces[0].frame = options.frameAngle;
     while (!stack.empty()) {
       const int f = stack.back();
       stack.pop_back();

@@ -33,6 +33,10 @@ struct MotorcycleLayoutOptions {
   /// A trace longer than this times the square root of the surface's area is an error (a trace on
   /// a flat surface can wind densely; with cones around, traces meet long before).
   double maxTraceLength = 50.0;
+  /// The cross field's first axis in face 0, counter-clockwise from the face's first edge
+  /// (radians). Any angle gives a valid field; turning it moves every trace, which breaks the
+  /// coincidences of symmetric surfaces (a trace through a cone or through another's end).
+  double frameAngle = 0.0;
 };
 
 /// A node of the layout: a cone, the point where a trace ended on another trace, or where traces
