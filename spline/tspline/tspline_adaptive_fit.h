@@ -34,6 +34,13 @@
 // follow (lion's mane); and the folds of a round move when its parameters are corrected. Each
 // remedy alone, as a rule in the refinement rounds, gained some meshes and lost others; tried from
 // the best round and kept only where it helps, none can make the surface returned worse.
+//
+// Last, the cone step. Every cone has a unique normal, and around it the surface turns its normal
+// at the rate its curvature and the cells' size give; cones sit where curvature concentrates (ear
+// rims, tips, box corners), where a coarse cell can turn the normal by a radian. Where the
+// normals 1e-3 cells from a cone spread by more than maxConeNormalSpread, its cap region is split
+// (cells halved; the fit holds the samples' parameters, so the surface changes only there) and
+// the fit is kept if it stays within the tolerance, within the budget and folds no more.
 
 #include <functional>
 #include <vector>
@@ -75,9 +82,12 @@ enum class FoldRemedy {
   /// The same for them and every face sharing a vertex with one of them.
   SplitAround,
   StiffenAround,
+  /// Not for folds: the cone step's split of the cap regions of the cones where the surface
+  /// turns fast.
+  SplitCones,
 };
 
-/// "split", "stiffen", "split around", "stiffen around".
+/// "split", "stiffen", "split around", "stiffen around", "split cones".
 const char* foldRemedyName(FoldRemedy remedy);
 
 /// Measures the surface of `fit` (control points, samples' parameters) on `mesh`.
@@ -100,6 +110,11 @@ struct TSplineAdaptiveFitOptions {
   double maxFoldFairing = 1000.0;
   /// At most this many steps in each repair search (a step fits every remedy once).
   int maxRepairSteps = 4;
+  /// The cone step (see above): cap regions of the cones whose normals 1e-3 cells away spread by
+  /// more than this (radians; tspline_cone_normals.h) are split, at most maxConeSteps times;
+  /// 0 turns it off.
+  double maxConeNormalSpread = 1e-3;
+  int maxConeSteps = 3;
   /// Optional: measures the surface after every fit (see above).
   TSplineSurfaceMeasure measure;
   SurfaceFitOptions fit;

@@ -6,53 +6,9 @@
 #include <random>
 #include <vector>
 
-#include <Eigen/Geometry>
-
-#include "mspline/structure/core/constants.h"
+#include "mspline/spline/tspline/tspline_cone_normals.h"
 
 namespace mspline::spline {
-
-namespace {
-
-// Normals at a small distance around every cone (TSplineCheck::maxConeNormalSpread).
-void checkCones(const TSplineSpace& space, const Eigen::MatrixXd& control,
-                const Eigen::VectorXd& weights, TSplineCheck& check) {
-  constexpr double kOffset = 1e-3;
-  const TMesh& mesh = space.mesh();
-  std::vector<std::vector<Eigen::Vector3d>> normals(std::size_t(mesh.numVertices));
-  for (const TSplineCapFace& cap : space.capFaces()) {
-    const TMeshFace& face = mesh.faces[std::size_t(cap.face)];
-    const auto at = std::find(face.vertices.begin(), face.vertices.end(), cap.cone);
-    const Eigen::Vector2d corner = face.positions[std::size_t(at - face.vertices.begin())];
-    const double sx = corner.x() < 0.5 * face.width ? 1.0 : -1.0;
-    const double sy = corner.y() < 0.5 * face.height ? 1.0 : -1.0;
-    for (const double fraction : {0.125, 0.5, 0.875}) {
-      const double angle = fraction * kPi / 2.0;
-      const Eigen::Vector2d p =
-          corner + kOffset * Eigen::Vector2d(sx * std::cos(angle), sy * std::sin(angle));
-      const Eigen::VectorXd normal = space.evaluate(control, weights, cap.face, p, 1).normal;
-      normals[std::size_t(cap.cone)].push_back(normal);
-    }
-  }
-  for (int v = 0; v < mesh.numVertices; ++v) {
-    const auto& around = normals[std::size_t(v)];
-    if (around.empty()) continue;
-    ++check.cones;
-    double spread = 0.0;
-    for (const auto& a : around)
-      for (const auto& b : around)
-        spread = a.allFinite() && b.allFinite()
-                     ? std::max(spread, std::atan2(a.cross(b).norm(), a.dot(b)))
-                     : kPi;
-    if (spread > 1e-3) ++check.conesSpreadOver1e3;
-    if (spread > check.maxConeNormalSpread || check.worstCone < 0) {
-      check.maxConeNormalSpread = spread;
-      check.worstCone = v;
-    }
-  }
-}
-
-}  // namespace
 
 TSplineCheck checkTSpline(const TSplineSpace& space, const Eigen::MatrixXd& control,
                           const Eigen::VectorXd& weights, const TSplineCheckOptions& options) {
@@ -142,7 +98,15 @@ TSplineCheck checkTSpline(const TSplineSpace& space, const Eigen::MatrixXd& cont
     ++check.edgeSamples;
   }
   if (!std::isfinite(check.minDenominator)) check.minDenominator = 0.0;
-  if (control.cols() == 3) checkCones(space, control, weights, check);
+  if (control.cols() == 3)
+    for (const ConeNormalSpread& cone : coneNormalSpreads(space, control, weights)) {
+      ++check.cones;
+      if (cone.spread > 1e-3) ++check.conesSpreadOver1e3;
+      if (cone.spread > check.maxConeNormalSpread || check.worstCone < 0) {
+        check.maxConeNormalSpread = cone.spread;
+        check.worstCone = cone.vertex;
+      }
+    }
   return check;
 }
 

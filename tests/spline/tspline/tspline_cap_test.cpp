@@ -1,6 +1,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
 #include <vector>
@@ -150,6 +151,20 @@ TEST_CASE("tspline caps: C1 across the outer sides, normal jumps O(h) across sec
     INFO("sector edge normal jumps " << coarse.sectorNormal << " -> " << fine.sectorNormal);
     CHECK(coarse.sectorNormal / fine.sectorNormal > 1.7);
     CHECK(fine.sectorNormal < 0.05);
+    // The patches share the tangent plane at the cone, so the jump vanishes there like the
+    // distance to it: a tenth as far, a tenth as large.
+    const Eigen::MatrixXd control = starControl(star, space, 0.2);
+    std::array<double, 2> nearCone{};
+    for (int m = 0; m < 2; ++m) {
+      const double t = m == 0 ? 1e-3 : 1e-4;
+      const auto a = space.evaluate(control, {}, star.face(1, 0, 0), {t, 0.0});
+      const auto b = space.evaluate(control, {}, star.face(0, 0, 0), {0.0, t});
+      nearCone[std::size_t(m)] = angleBetween(a.normal, b.normal);
+    }
+    INFO("sector edge normal jumps 1e-3 and 1e-4 from the cone " << nearCone[0] << ", "
+                                                                 << nearCone[1]);
+    CHECK(nearCone[0] < 1e-3);
+    CHECK(nearCone[0] / nearCone[1] == Approx(10.0).epsilon(0.05));
     INFO("outer side normal jumps " << coarse.outerNormal << " -> " << fine.outerNormal);
     if (n == 2) {
       // The second-order corner coefficients moved: across the outer sides too, O(h).

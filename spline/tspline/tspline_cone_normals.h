@@ -1,0 +1,31 @@
+#pragma once
+// How far the normals of a T-spline surface spread right around its cones. The caps (tspline_cap.h)
+// give every cone a unique normal, so the spread at a distance is the surface's own turning there:
+// it vanishes like the distance, and it is large where a cell is too coarse for the curvature at
+// the cone (cones sit where curvature concentrates: ear rims, tips, box corners).
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "mspline/spline/tspline/tspline.h"
+
+namespace mspline::spline {
+
+struct ConeNormalSpread {
+  /// The cone (T-mesh vertex), its valence and the side of its cap's cells (knot intervals).
+  int vertex = -1;
+  int valence = 0;
+  double cellSize = 0.0;
+  /// The largest angle between the normals `offset` cells from the cone in 8 directions spread
+  /// evenly over its angle (two per face at valence over 4); radians, pi where a normal is
+  /// undefined.
+  double spread = 0.0;
+};
+
+/// Per cone with cap faces, in increasing vertex order. `offset` is a fraction of the cap's cell.
+std::vector<ConeNormalSpread> coneNormalSpreads(const TSplineSpace& space,
+                                                const Eigen::MatrixXd& control,
+                                                const Eigen::VectorXd& weights,
+                                                double offset = 1e-3);
+
+}  // namespace mspline::spline
