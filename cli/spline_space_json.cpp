@@ -12,6 +12,7 @@ Json gridJson(const spline::GridFigures& grid) {
   return {{"layout", "motorcycle graph"},
           {"traces", grid.traces},
           {"frame_angle", grid.frameAngle},
+          {"frame_turned_because", grid.frameTurnedBecause},
           {"rectangles", grid.rectangles},
           {"cell_size", grid.cellSize},
           {"max_rounding_error", grid.maxRoundingError},

@@ -11,6 +11,8 @@
 #include "mspline/spline/tspline/tspline.h"
 #include "mspline/spline/tspline/tspline_fit_space.h"
 #include "mspline/spline/tspline/tspline_refine.h"
+#include "mspline/structure/core/constants.h"
+#include "mspline/structure/core/errors.h"
 #include "mspline/structure/core/stopwatch.h"
 #include "mspline/structure/layout/coarse_triangulation.h"
 #include "mspline/structure/layout/motorcycle_layout.h"
@@ -113,6 +115,7 @@ void buildTSpline(const BuildSplineOptions& s, const Flattening& flattening,
             s.grid > 0.0 ? s.grid * std::sqrt(flatArea) : std::sqrt(flatArea / double(s.control));
         quads = layoutTMesh(*layout, quadOptions);
         setup.grid.frameAngle = traceOptions.frameAngle;
+        setup.grid.frameTurnedBecause = firstFailure;
         break;
       } catch (const SolverError& failure) {
         if (firstFailure.empty()) firstFailure = failure.what();

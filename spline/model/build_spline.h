@@ -59,9 +59,10 @@ struct GridFigures {
   bool torus = false;
   int cellsAlongFirst = 0, cellsAlongSecond = 0;
   int traces = 0, rectangles = 0;
-  /// The cross field's turn in face 0 (radians; structure::MotorcycleLayoutOptions::frameAngle):
-  /// 0 unless the traces of the field aligned with face 0 missed a crossing.
+  /// The cross field's turn in face 0 (radians; structure::MotorcycleLayoutOptions::frameAngle),
+  /// and why the field aligned with face 0 was not laid out (empty when it was).
   double frameAngle = 0.0;
+  std::string frameTurnedBecause;
   /// Cell side in the flat metric, and the largest rounding of a rectangle side to whole cells
   /// (motorcycle layouts).
   double cellSize = 0.0, maxRoundingError = 0.0;

@@ -304,7 +304,9 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
     }
     kept = std::move(moved);
   }
-  for (int step = 0; step < options.maxConeSteps && options.maxConeNormalSpread > 0.0; ++step) {
+  for (int step = 0; step < options.maxConeSteps && options.maxConeNormalSpread > 0.0 &&
+                     kept->mesh.numExtraordinary() > 0;
+       ++step) {
     const TSplineSpace space(kept->mesh);
     std::vector<ConeNormalSpread> cones =
         coneNormalSpreads(space, kept->fit.controlPoints, unitWeights);
@@ -312,14 +314,12 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
       return a.spread > b.spread;
     });
     std::vector<int> capFaces;
-    int turning = 0;
     for (const ConeNormalSpread& cone : cones) {
       if (cone.spread <= options.maxConeNormalSpread) break;
-      ++turning;
       for (const TSplineCapFace& cap : space.capFaces())
         if (cap.cone == cone.vertex) capFaces.push_back(cap.face);
     }
-    if (turning == 0) break;
+    if (capFaces.empty()) break;
     FitState candidate = *kept;
     candidate.fitOptions.correctionRounds = 0;
     const std::vector<int> splits = splitWithinBudget(candidate, capFaces, options);
@@ -332,10 +332,7 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
     summary.remediedFaces = int(splits.size());
     summary.parametersHeld = true;
     result.rounds.push_back(summary);
-    if ((kept->within() && !candidate.within()) ||
-        candidate.check.foldCount > kept->check.foldCount)
-      break;
-    candidate.fitOptions.correctionRounds = kept->fitOptions.correctionRounds;
+    if (!candidate.within() || candidate.check.foldCount > kept->check.foldCount) break;
     kept = std::move(candidate);
   }
   result.keptRound = kept->round;

@@ -38,9 +38,10 @@
 // Last, the cone step. Every cone has a unique normal, and around it the surface turns its normal
 // at the rate its curvature and the cells' size give; cones sit where curvature concentrates (ear
 // rims, tips, box corners), where a coarse cell can turn the normal by a radian. Where the
-// normals 1e-3 cells from a cone spread by more than maxConeNormalSpread, its cap region is split
-// (cells halved; the fit holds the samples' parameters, so the surface changes only there) and
-// the fit is kept if it stays within the tolerance, within the budget and folds no more.
+// normals 1e-3 cells from a cone spread by more than maxConeNormalSpread (a cap cell turns the
+// normal by more than about half a radian), its cap region is split (cells halved; the fit holds
+// the samples' parameters, so the surface changes mostly there), within the budget, and the fit is
+// kept if it is within the tolerance and folds no more than the fit it started from.
 
 #include <functional>
 #include <vector>
@@ -73,7 +74,7 @@ struct TSplineSurfaceCheck {
   bool accepted = true;
 };
 
-/// What the repair does to the faces where the round it starts from folds.
+/// What the repair does to the faces where the round it starts from folds (and the cone step).
 enum class FoldRemedy {
   /// Split them into four (cap regions whole), within the control point budget.
   Split,
@@ -134,9 +135,9 @@ struct TSplineFitRound {
   int stiffenedFaces = 0;
   /// With a measurement: the folds it counted.
   int folds = 0;
-  /// A repair's fit (after the refinement rounds): the round it started from (-1 for a refinement
-  /// round), the remedy applied to that round's T-mesh and fairing, and the faces it split or
-  /// stiffened.
+  /// A repair's or cone step's fit (after the refinement rounds): the round it started from (-1
+  /// for a refinement round), the remedy applied to that round's T-mesh and fairing, and the faces
+  /// it split or stiffened.
   int repairOf = -1;
   FoldRemedy remedy = FoldRemedy::Split;
   int remediedFaces = 0;
@@ -154,9 +155,9 @@ struct TSplineAdaptiveFitResult {
   /// surface points' samples, after these.
   std::vector<FacePoint> parameters;
   /// Every fit made: the refinement rounds in order, then the repair searches' fits (the one
-  /// that corrects parameters first).
+  /// that corrects parameters first), then the cone steps' fits.
   std::vector<TSplineFitRound> rounds;
-  /// The round returned (index into rounds; the last refinement round without a measurement).
+  /// The round returned (index into rounds; see the header).
   int keptRound = 0;
   /// RMS <= tolerance and max <= maxErrorFactor * tolerance, and the measurement (when given)
   /// accepted the surface.

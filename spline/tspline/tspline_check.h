@@ -42,11 +42,10 @@ struct TSplineCheck {
   int holeSamples = 0;
   double minDenominator = 0.0;
   /// Surfaces in 3-space: the cones (extraordinary vertices with cap faces) and the angle between
-  /// the normals 1e-3 of the cap's cell from each, in 8 directions spread evenly over the cone's
-  /// angle (two per face at high valence). With a unique normal at the cone it is the surface's
-  /// own turning over 2e-3 cells, O(1e-3) where a cell turns the normal by less than half a
-  /// radian. The largest (radians; pi where a normal is undefined), at which cone (T-mesh vertex,
-  /// -1 without cones), and how many cones exceed 1e-3.
+  /// the normals 1e-3 of the cap's cell from each (tspline_cone_normals.h). With a unique normal at
+  /// the cone it is the surface's own turning over 2e-3 cells, under 1e-3 where a cap cell turns
+  /// the normal by less than about half a radian. The largest (radians; pi where a normal is
+  /// undefined), at which cone (T-mesh vertex, -1 without cones), and how many cones exceed 1e-3.
   int cones = 0;
   double maxConeNormalSpread = 0.0;
   int worstCone = -1;

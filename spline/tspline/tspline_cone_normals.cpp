@@ -12,6 +12,7 @@ namespace mspline::spline {
 std::vector<ConeNormalSpread> coneNormalSpreads(const TSplineSpace& space,
                                                 const Eigen::MatrixXd& control,
                                                 const Eigen::VectorXd& weights, double offset) {
+  if (control.cols() != 3) return {};
   const TMesh& mesh = space.mesh();
   std::vector<std::vector<int>> sectors(std::size_t(mesh.numVertices));
   for (const TSplineCapFace& cap : space.capFaces())
@@ -24,23 +25,23 @@ std::vector<ConeNormalSpread> coneNormalSpreads(const TSplineSpace& space,
     ConeNormalSpread cone;
     cone.vertex = v;
     cone.valence = int(around.size());
-    const int directions = std::max(8, 2 * cone.valence);
+    const int perFace = std::max(2, (8 + cone.valence - 1) / cone.valence);
     normals.clear();
-    for (int m = 0; m < directions; ++m) {
-      // In quarter turns around the cone; the faces in any order, as the spread is over all pairs.
-      const double turn = cone.valence * (m + 0.5) / directions;
-      const int k = std::min(cone.valence - 1, int(turn));
-      const TMeshFace& face = mesh.faces[std::size_t(around[std::size_t(k)])];
+    // The faces in any order, each swept from either side: the spread is over all pairs.
+    for (const int f : around) {
+      const TMeshFace& face = mesh.faces[std::size_t(f)];
       const auto at = std::find(face.vertices.begin(), face.vertices.end(), v);
       const Eigen::Vector2d corner = face.positions[std::size_t(at - face.vertices.begin())];
       const double sx = corner.x() < 0.5 * face.width ? 1.0 : -1.0;
       const double sy = corner.y() < 0.5 * face.height ? 1.0 : -1.0;
-      const double angle = (turn - k) * kPi / 2.0;
       cone.cellSize = std::min(face.width, face.height);
-      const Eigen::Vector2d p =
-          corner +
-          offset * cone.cellSize * Eigen::Vector2d(sx * std::cos(angle), sy * std::sin(angle));
-      normals.push_back(space.evaluate(control, weights, around[std::size_t(k)], p, 1).normal);
+      for (int j = 0; j < perFace; ++j) {
+        const double angle = (j + 0.5) / perFace * kPi / 2.0;
+        const Eigen::Vector2d p =
+            corner +
+            offset * cone.cellSize * Eigen::Vector2d(sx * std::cos(angle), sy * std::sin(angle));
+        normals.push_back(space.evaluate(control, weights, f, p, 1).normal);
+      }
     }
     for (const auto& a : normals)
       for (const auto& b : normals)

@@ -16,13 +16,14 @@ struct ConeNormalSpread {
   int vertex = -1;
   int valence = 0;
   double cellSize = 0.0;
-  /// The largest angle between the normals `offset` cells from the cone in 8 directions spread
-  /// evenly over its angle (two per face at valence over 4); radians, pi where a normal is
-  /// undefined.
+  /// The largest angle between the normals `offset` cells from the cone in at least 8 directions,
+  /// spread evenly over each face around it (4 per face at valence 2, 3 at valence 3, 2 above);
+  /// radians, pi where a normal is undefined.
   double spread = 0.0;
 };
 
-/// Per cone with cap faces, in increasing vertex order. `offset` is a fraction of the cap's cell.
+/// Per cone with cap faces, in increasing vertex order (none unless the control points are in
+/// 3-space). `offset` is a fraction of the cap's cell.
 std::vector<ConeNormalSpread> coneNormalSpreads(const TSplineSpace& space,
                                                 const Eigen::MatrixXd& control,
                                                 const Eigen::VectorXd& weights,

@@ -365,8 +365,9 @@ TEST_CASE("tspline_adaptive_fit: the cone step halves the caps' cells where the 
           "[spline]") {
   // A cube's T-mesh (8 corners of valence 3, 8 x 8 cells a side) fitted to a sphere: at the
   // corners the normals 1e-3 cells away spread by about 2.5e-4. With a bound of a tenth of that,
-  // each cone step halves the cells of every cap, and the spread falls at least as fast (the first
-  // step by 4.6: the finer cap also follows the sphere better).
+  // each cone step halves the cells of every cap. Measured in cells the spread falls with the
+  // cells; measured at one distance, it falls too: the finer cap follows the sphere better. A cone
+  // step whose fit folds is not kept.
   const test::CubeTMesh cube = test::cubeTMesh(8);
   std::mt19937 random(3);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -390,11 +391,11 @@ TEST_CASE("tspline_adaptive_fit: the cone step halves the caps' cells where the 
   options.fit.correctionRounds = 1;
   options.maxConeSteps = 0;
   const auto before = spline::fitTSplineAdaptively(cube.mesh, parameters, targets, options);
-  const auto spreadsOf = [](const spline::TSplineAdaptiveFitResult& result) {
+  const auto spreadsOf = [](const spline::TSplineAdaptiveFitResult& result, double offset) {
     const spline::TSplineSpace space(result.mesh);
-    return spline::coneNormalSpreads(space, result.fit.controlPoints, Eigen::VectorXd());
+    return spline::coneNormalSpreads(space, result.fit.controlPoints, Eigen::VectorXd(), offset);
   };
-  const auto first = spreadsOf(before);
+  const auto first = spreadsOf(before, 1e-3);
   REQUIRE(first.size() == 8);
   double largest = 0.0;
   for (const auto& cone : first) {
@@ -416,11 +417,32 @@ TEST_CASE("tspline_adaptive_fit: the cone step halves the caps' cells where the 
   }
   CHECK(after.keptRound == 2);
   CHECK(after.reachedTolerance);
-  const auto last = spreadsOf(after);
+  const auto last = spreadsOf(after, 1e-3);
+  const auto lastAtFirstDistance = spreadsOf(after, 4e-3);
   REQUIRE(last.size() == 8);
+  REQUIRE(lastAtFirstDistance.size() == 8);
   for (std::size_t c = 0; c < 8; ++c) {
     CHECK(last[c].cellSize == 0.25);
     CHECK(last[c].spread < 0.35 * first[c].spread);
+    CHECK(lastAtFirstDistance[c].spread < 0.7 * first[c].spread);
   }
   CHECK(spline::capRegions(after.mesh).size() == 8);
+
+  // The same with a measurement that finds a fold on any T-mesh finer than the input.
+  const int inputFaces = cube.mesh.numFaces();
+  options.measure = [&](const spline::TMesh& mesh, const spline::SurfaceFitResult&) {
+    spline::TSplineSurfaceCheck check;
+    if (mesh.numFaces() > inputFaces) {
+      check.foldCount = 1;
+      check.accepted = false;
+    }
+    return check;
+  };
+  const auto folded = spline::fitTSplineAdaptively(cube.mesh, parameters, targets, options);
+  REQUIRE(folded.rounds.size() == 2);
+  CHECK(folded.rounds[1].remedy == spline::FoldRemedy::SplitCones);
+  CHECK(folded.rounds[1].folds == 1);
+  CHECK(folded.keptRound == 0);
+  CHECK(folded.mesh.numFaces() == inputFaces);
+  CHECK(folded.reachedTolerance);
 }

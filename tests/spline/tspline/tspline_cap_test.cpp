@@ -130,8 +130,8 @@ TEST_CASE("tspline caps: check measures the normals around each cone", "[spline]
     CHECK(smooth.worstCone == 0);
     CHECK(smooth.maxConeNormalSpread < 1e-3);
     CHECK(smooth.conesSpreadOver1e3 == 0);
-    // The normals differ across the sector edges by O(h) however close to the cone (the caps'
-    // known weakness, README): on a coarser net the spread passes 1e-3, and it doubles with h.
+    // The surface turns faster on a coarser net: there the spread passes 1e-3, and it doubles
+    // with h.
     const auto half = spline::checkTSpline(space, starControl(star, space, 0.5), {}, options);
     const auto coarse = spline::checkTSpline(space, starControl(star, space, 1.0), {}, options);
     CHECK(coarse.maxConeNormalSpread > 2e-3);
@@ -151,8 +151,9 @@ TEST_CASE("tspline caps: C1 across the outer sides, normal jumps O(h) across sec
     INFO("sector edge normal jumps " << coarse.sectorNormal << " -> " << fine.sectorNormal);
     CHECK(coarse.sectorNormal / fine.sectorNormal > 1.7);
     CHECK(fine.sectorNormal < 0.05);
-    // The patches share the tangent plane at the cone, so the jump vanishes there like the
-    // distance to it: a tenth as far, a tenth as large.
+    // The patches share the tangent plane at the cone (at valence 2 through the second-order
+    // coefficients, projected into one plane), so the jump vanishes there like the distance to it:
+    // a tenth as far, a tenth as large.
     const Eigen::MatrixXd control = starControl(star, space, 0.2);
     std::array<double, 2> nearCone{};
     for (int m = 0; m < 2; ++m) {

@@ -255,11 +255,10 @@ TEST_CASE("motorcycle_layout: metrics it cannot lay out are refused", "[structur
 
 TEST_CASE("motorcycle_layout: a turned cross field lays out a pyramid", "[structure]") {
   // pyramid.off: five corners, four of them cones. The field aligned with face 0 sends traces
-  // exactly through the apex, where the floating tracing misses a crossing; turned by 0.618 of a
-  // quarter turn, every trace runs clear of the corners.
+  // exactly through the apex, where the floating tracing can miss a crossing (whether it does
+  // depends on the last bits of the arithmetic); turned by 0.618 of a quarter turn, every trace
+  // runs clear of the corners.
   const test::FlatMetric flat = test::seamlessFlatMetric(test::realMesh("pyramid.off"));
-  CHECK_THROWS_WITH(MotorcycleLayout(flat.surface, flat.lengths),
-                    Catch::Contains("traces crossed where the graph has no node"));
   structure::MotorcycleLayoutOptions options;
   options.frameAngle = 0.618 * 0.5 * kPi;
   const MotorcycleLayout layout(flat.surface, flat.lengths, options);
