@@ -40,7 +40,7 @@ def test_the_fit_report_tells_how_the_fit_went(fitted):
     assert 1 <= len(refinement) <= TSPLINE_FIT_ARGUMENTS["max_refinements"] + 1
     assert report["refinement"][:len(refinement)] == refinement
     for r in report["refinement"][len(refinement):]:
-        assert r["remedy"] in ("split", "stiffen", "split around", "stiffen around", "split cones")
+        assert r["remedy"] in ("split", "stiffen", "split around", "stiffen around")
         assert 0 <= r["repair_of"] < len(report["refinement"])
     kept = [r for r in report["refinement"] if r["kept"]]
     assert len(kept) == 1

@@ -53,9 +53,8 @@ struct FitRound {
   int folds = 0;
   bool kept = false;
   double seconds = 0.0;
-  /// A repair's or cone step's fit: the round it started from (-1 for a refinement round), its
-  /// remedy ("split", "stiffen", "split around", "stiffen around"; "split cones" for the cone step)
-  /// and whether it held the samples' parameters.
+  /// A repair's fit: the round it started from (-1 for a refinement round), its remedy ("split",
+  /// "stiffen", "split around", "stiffen around") and whether it held the samples' parameters.
   int repairOf = -1;
   std::string remedy;
   bool parametersHeld = false;

@@ -7,7 +7,6 @@
 #include <optional>
 
 #include "mspline/spline/tspline/tspline.h"
-#include "mspline/spline/tspline/tspline_cone_normals.h"
 #include "mspline/spline/tspline/tspline_fit_space.h"
 #include "mspline/spline/tspline/tspline_refine.h"
 
@@ -195,8 +194,6 @@ const char* foldRemedyName(FoldRemedy remedy) {
       return "split around";
     case FoldRemedy::StiffenAround:
       return "stiffen around";
-    case FoldRemedy::SplitCones:
-      return "split cones";
   }
   return "";
 }
@@ -303,37 +300,6 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
       if (held.check.foldCount < moved.check.foldCount) moved = std::move(held);
     }
     kept = std::move(moved);
-  }
-  for (int step = 0; step < options.maxConeSteps && options.maxConeNormalSpread > 0.0 &&
-                     kept->mesh.numExtraordinary() > 0;
-       ++step) {
-    const TSplineSpace space(kept->mesh);
-    std::vector<ConeNormalSpread> cones =
-        coneNormalSpreads(space, kept->fit.controlPoints, unitWeights);
-    std::sort(cones.begin(), cones.end(), [](const ConeNormalSpread& a, const ConeNormalSpread& b) {
-      return a.spread > b.spread;
-    });
-    std::vector<int> capFaces;
-    for (const ConeNormalSpread& cone : cones) {
-      if (cone.spread <= options.maxConeNormalSpread) break;
-      for (const TSplineCapFace& cap : space.capFaces())
-        if (cap.cone == cone.vertex) capFaces.push_back(cap.face);
-    }
-    if (capFaces.empty()) break;
-    FitState candidate = *kept;
-    candidate.fitOptions.correctionRounds = 0;
-    const std::vector<int> splits = splitWithinBudget(candidate, capFaces, options);
-    if (splits.empty()) break;
-    split(candidate, splits);
-    TSplineFitRound summary =
-        fitAndMeasure(candidate, int(result.rounds.size()), options, progress);
-    summary.repairOf = kept->round;
-    summary.remedy = FoldRemedy::SplitCones;
-    summary.remediedFaces = int(splits.size());
-    summary.parametersHeld = true;
-    result.rounds.push_back(summary);
-    if (!candidate.within() || candidate.check.foldCount > kept->check.foldCount) break;
-    kept = std::move(candidate);
   }
   result.keptRound = kept->round;
   result.mesh = std::move(kept->mesh);

@@ -34,14 +34,6 @@
 // follow (lion's mane); and the folds of a round move when its parameters are corrected. Each
 // remedy alone, as a rule in the refinement rounds, gained some meshes and lost others; tried from
 // the best round and kept only where it helps, none can make the surface returned worse.
-//
-// Last, the cone step. Every cone has a unique normal, and around it the surface turns its normal
-// at the rate its curvature and the cells' size give; cones sit where curvature concentrates (ear
-// rims, tips, box corners), where a coarse cell can turn the normal by a radian. Where the
-// normals 1e-3 cells from a cone spread by more than maxConeNormalSpread (a cap cell turns the
-// normal by more than about half a radian), its cap region is split (cells halved; the fit holds
-// the samples' parameters, so the surface changes mostly there), within the budget, and the fit is
-// kept if it is within the tolerance and folds no more than the fit it started from.
 
 #include <functional>
 #include <vector>
@@ -74,7 +66,7 @@ struct TSplineSurfaceCheck {
   bool accepted = true;
 };
 
-/// What the repair does to the faces where the round it starts from folds (and the cone step).
+/// What the repair does to the faces where the round it starts from folds.
 enum class FoldRemedy {
   /// Split them into four (cap regions whole), within the control point budget.
   Split,
@@ -83,12 +75,9 @@ enum class FoldRemedy {
   /// The same for them and every face sharing a vertex with one of them.
   SplitAround,
   StiffenAround,
-  /// Not for folds: the cone step's split of the cap regions of the cones where the surface
-  /// turns fast.
-  SplitCones,
 };
 
-/// "split", "stiffen", "split around", "stiffen around", "split cones".
+/// "split", "stiffen", "split around", "stiffen around".
 const char* foldRemedyName(FoldRemedy remedy);
 
 /// Measures the surface of `fit` (control points, samples' parameters) on `mesh`.
@@ -111,11 +100,6 @@ struct TSplineAdaptiveFitOptions {
   double maxFoldFairing = 1000.0;
   /// At most this many steps in each repair search (a step fits every remedy once).
   int maxRepairSteps = 4;
-  /// The cone step (see above): cap regions of the cones whose normals 1e-3 cells away spread by
-  /// more than this (radians; tspline_cone_normals.h) are split, at most maxConeSteps times;
-  /// 0 turns it off.
-  double maxConeNormalSpread = 1e-3;
-  int maxConeSteps = 3;
   /// Optional: measures the surface after every fit (see above).
   TSplineSurfaceMeasure measure;
   SurfaceFitOptions fit;
@@ -135,9 +119,9 @@ struct TSplineFitRound {
   int stiffenedFaces = 0;
   /// With a measurement: the folds it counted.
   int folds = 0;
-  /// A repair's or cone step's fit (after the refinement rounds): the round it started from (-1
-  /// for a refinement round), the remedy applied to that round's T-mesh and fairing, and the faces
-  /// it split or stiffened.
+  /// A repair's fit (after the refinement rounds): the round it started from (-1 for a refinement
+  /// round), the remedy applied to that round's T-mesh and fairing, and the faces it split or
+  /// stiffened.
   int repairOf = -1;
   FoldRemedy remedy = FoldRemedy::Split;
   int remediedFaces = 0;
@@ -155,9 +139,9 @@ struct TSplineAdaptiveFitResult {
   /// surface points' samples, after these.
   std::vector<FacePoint> parameters;
   /// Every fit made: the refinement rounds in order, then the repair searches' fits (the one
-  /// that corrects parameters first), then the cone steps' fits.
+  /// that corrects parameters first).
   std::vector<TSplineFitRound> rounds;
-  /// The round returned (index into rounds; see the header).
+  /// The round returned (index into rounds; the last refinement round without a measurement).
   int keptRound = 0;
   /// RMS <= tolerance and max <= maxErrorFactor * tolerance, and the measurement (when given)
   /// accepted the surface.

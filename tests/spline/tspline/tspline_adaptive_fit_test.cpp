@@ -1,6 +1,5 @@
 #include <catch2/catch.hpp>
 
-#include <algorithm>
 #include <array>
 #include <cmath>
 #include <random>
@@ -9,7 +8,6 @@
 #include "mspline/spline/tspline/tspline.h"
 #include "mspline/spline/tspline/tspline_adaptive_fit.h"
 #include "mspline/spline/tspline/tspline_cap.h"
-#include "mspline/spline/tspline/tspline_cone_normals.h"
 #include "mspline/spline/tspline/tspline_fit_space.h"
 #include "mspline/structure/core/constants.h"
 #include "support/test_tmeshes.h"
@@ -339,7 +337,6 @@ TEST_CASE("tspline_adaptive_fit: cap regions at extraordinary vertices are split
   options.maxRefinements = 1;
   options.maxControlPoints = 100000;
   options.fit.correctionRounds = 1;
-  options.maxConeSteps = 0;
   const int inputFaces = cube.mesh.numFaces();
   options.measure = [&](const spline::TMesh& mesh, const spline::SurfaceFitResult&) {
     spline::TSplineSurfaceCheck check;
@@ -359,90 +356,4 @@ TEST_CASE("tspline_adaptive_fit: cap regions at extraordinary vertices are split
   CHECK(result.mesh.numFaces() == 4 * inputFaces);
   CHECK(spline::capRegions(result.mesh).size() == 8);
   CHECK(result.rounds.front().addedSamples == inputFaces);
-}
-
-TEST_CASE("tspline_adaptive_fit: the cone step halves the caps' cells where the surface turns",
-          "[spline]") {
-  // A cube's T-mesh (8 corners of valence 3, 8 x 8 cells a side) fitted to a sphere: at the
-  // corners the normals 1e-3 cells away spread by about 2.5e-4. With a bound of a tenth of that,
-  // each cone step halves the cells of every cap. Measured in cells the spread falls with the
-  // cells; measured at one distance, it falls too: the finer cap follows the sphere better. A cone
-  // step whose fit folds is not kept.
-  const test::CubeTMesh cube = test::cubeTMesh(8);
-  std::mt19937 random(3);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::vector<spline::FacePoint> parameters;
-  Eigen::MatrixX3d targets(40 * cube.mesh.numFaces(), 3);
-  for (Eigen::Index s = 0; s < targets.rows(); ++s) {
-    const spline::FacePoint p{int(s % cube.mesh.numFaces()),
-                              Eigen::Vector2d(unit(random), unit(random))};
-    const auto& face = cube.mesh.faces[std::size_t(p.face)];
-    const Eigen::Vector3d a = cube.latticePoints.row(face.vertices[0]).transpose(),
-                          b = cube.latticePoints.row(face.vertices[1]).transpose(),
-                          d = cube.latticePoints.row(face.vertices[3]).transpose();
-    parameters.push_back(p);
-    targets.row(s) =
-        (a + p.position.x() * (b - a) + p.position.y() * (d - a)).normalized().transpose();
-  }
-  spline::TSplineAdaptiveFitOptions options;
-  options.tolerance = 1e-1;
-  options.maxRefinements = 0;
-  options.maxControlPoints = 100000;
-  options.fit.correctionRounds = 1;
-  options.maxConeSteps = 0;
-  const auto before = spline::fitTSplineAdaptively(cube.mesh, parameters, targets, options);
-  const auto spreadsOf = [](const spline::TSplineAdaptiveFitResult& result, double offset) {
-    const spline::TSplineSpace space(result.mesh);
-    return spline::coneNormalSpreads(space, result.fit.controlPoints, Eigen::VectorXd(), offset);
-  };
-  const auto first = spreadsOf(before, 1e-3);
-  REQUIRE(first.size() == 8);
-  double largest = 0.0;
-  for (const auto& cone : first) {
-    CHECK(cone.valence == 3);
-    CHECK(cone.cellSize == 1.0);
-    largest = std::max(largest, cone.spread);
-  }
-  CHECK(largest > 1e-4);
-  CHECK(largest < 1e-3);
-
-  options.maxConeSteps = 2;
-  options.maxConeNormalSpread = 0.1 * largest;
-  const auto after = spline::fitTSplineAdaptively(cube.mesh, parameters, targets, options);
-  REQUIRE(after.rounds.size() == 3);
-  for (std::size_t r = 1; r < 3; ++r) {
-    CHECK(after.rounds[r].remedy == spline::FoldRemedy::SplitCones);
-    CHECK(after.rounds[r].parametersHeld);
-    CHECK(after.rounds[r].remediedFaces > 0);
-  }
-  CHECK(after.keptRound == 2);
-  CHECK(after.reachedTolerance);
-  const auto last = spreadsOf(after, 1e-3);
-  const auto lastAtFirstDistance = spreadsOf(after, 4e-3);
-  REQUIRE(last.size() == 8);
-  REQUIRE(lastAtFirstDistance.size() == 8);
-  for (std::size_t c = 0; c < 8; ++c) {
-    CHECK(last[c].cellSize == 0.25);
-    CHECK(last[c].spread < 0.35 * first[c].spread);
-    CHECK(lastAtFirstDistance[c].spread < 0.7 * first[c].spread);
-  }
-  CHECK(spline::capRegions(after.mesh).size() == 8);
-
-  // The same with a measurement that finds a fold on any T-mesh finer than the input.
-  const int inputFaces = cube.mesh.numFaces();
-  options.measure = [&](const spline::TMesh& mesh, const spline::SurfaceFitResult&) {
-    spline::TSplineSurfaceCheck check;
-    if (mesh.numFaces() > inputFaces) {
-      check.foldCount = 1;
-      check.accepted = false;
-    }
-    return check;
-  };
-  const auto folded = spline::fitTSplineAdaptively(cube.mesh, parameters, targets, options);
-  REQUIRE(folded.rounds.size() == 2);
-  CHECK(folded.rounds[1].remedy == spline::FoldRemedy::SplitCones);
-  CHECK(folded.rounds[1].folds == 1);
-  CHECK(folded.keptRound == 0);
-  CHECK(folded.mesh.numFaces() == inputFaces);
-  CHECK(folded.reachedTolerance);
 }

@@ -12,6 +12,7 @@
 #include "mspline/spline/tspline/tspline_bezier.h"
 #include "mspline/spline/tspline/tspline_cap.h"
 #include "mspline/spline/tspline/tspline_check.h"
+#include "mspline/spline/tspline/tspline_cone_normals.h"
 #include "mspline/spline/tspline/tspline_refine.h"
 #include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
@@ -130,6 +131,13 @@ TEST_CASE("tspline caps: check measures the normals around each cone", "[spline]
     CHECK(smooth.worstCone == 0);
     CHECK(smooth.maxConeNormalSpread < 1e-3);
     CHECK(smooth.conesSpreadOver1e3 == 0);
+    // A unique normal at the cone: the spread vanishes like the distance to it.
+    const auto near = spline::coneNormalSpreads(space, control, {}, 1e-4);
+    const auto far = spline::coneNormalSpreads(space, control, {}, 1e-3);
+    REQUIRE(near.size() == 1);
+    REQUIRE(far.size() == 1);
+    CHECK(near[0].valence == n);
+    CHECK(near[0].spread / far[0].spread == Approx(0.1).epsilon(0.05));
     // The surface turns faster on a coarser net: there the spread passes 1e-3, and it doubles
     // with h.
     const auto half = spline::checkTSpline(space, starControl(star, space, 0.5), {}, options);
