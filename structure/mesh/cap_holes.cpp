@@ -62,9 +62,10 @@ void zipRings(TriMesh& mesh, const Ring& outer, const Ring& inner) {
   }
 }
 
-// Adds the rings and faces of the cap of one loop, the new vertices placed at its centroid.
-void buildCap(TriMesh& mesh, const std::vector<TriMesh::VertexHandle>& loop,
-              double edgeLengthFactor) {
+// Adds the rings and faces of the cap of one loop, the new vertices placed at its centroid; the
+// number of rings (1: the centre alone).
+int buildCap(TriMesh& mesh, const std::vector<TriMesh::VertexHandle>& loop,
+             double edgeLengthFactor) {
   Ring outer{loop, {}};
   double length = 0.0;
   OpenMesh::Vec3d centroid(0.0, 0.0, 0.0);
@@ -97,6 +98,7 @@ void buildCap(TriMesh& mesh, const std::vector<TriMesh::VertexHandle>& loop,
         mesh.add_face(outer.vertices[i], outer.vertices[(i + 1) % outer.vertices.size()], centre);
     MSPLINE_ASSERT(face.is_valid(), "capping holes: OpenMesh refused a cap face");
   }
+  return rings;
 }
 
 // Positions the cap vertices (indices from `firstCap` on) minimizing sum_r |(M x)_r|^2, M the
@@ -104,13 +106,18 @@ void buildCap(TriMesh& mesh, const std::vector<TriMesh::VertexHandle>& loop,
 // M x = 0 there, a membrane) or of the cap and loop vertices (order 2: the bi-Laplace equation
 // M^T M x = 0 at the cap vertices, which also asks the loop vertices to be the mean of their
 // neighbours, so the cap continues the surface's tangent plane). The scan's vertices are fixed.
-void fairCaps(TriMesh& mesh, int firstCap, int order) {
+// A cap whose centre is its only vertex (`loneCentre`) is a membrane at either order: asked to
+// make its loop's vertices the mean of their neighbours, one vertex would have to cancel the
+// scan's own roughness there, and goes far off (ChineseDragon-10kv: a 3-edge hole's centre at an
+// angle sum of 0.09 instead of 2 pi, which no cone can flatten).
+void fairCaps(TriMesh& mesh, int firstCap, int order, const std::vector<char>& loneCentre) {
   const int unknowns = static_cast<int>(mesh.n_vertices()) - firstCap;
   std::vector<int> rows;
   for (auto v : mesh.vertices()) {
     bool row = v.idx() >= firstCap;
     if (order == 2)
-      for (auto w : mesh.vv_range(v)) row = row || w.idx() >= firstCap;
+      for (auto w : mesh.vv_range(v))
+        row = row || (w.idx() >= firstCap && !loneCentre[std::size_t(w.idx() - firstCap)]);
     if (row) rows.push_back(v.idx());
   }
 
@@ -154,11 +161,14 @@ CappedSurface capHoles(const TriMesh& mesh, const CapOptions& options) {
   const auto loops = loopsToCap(mesh);
   CappedSurface result{mesh, {}, {}, loops.size(), {}};
   const int firstCap = static_cast<int>(mesh.n_vertices());
+  std::vector<char> loneCentre;
   for (const auto& loop : loops) {
     result.loopLengths.push_back(loop.size());
-    buildCap(result.mesh, loop, options.edgeLengthFactor);
+    const int rings = buildCap(result.mesh, loop, options.edgeLengthFactor);
+    loneCentre.resize(result.mesh.n_vertices() - std::size_t(firstCap), 0);
+    if (rings == 1) loneCentre.back() = 1;
   }
-  if (!loops.empty()) fairCaps(result.mesh, firstCap, options.fairingOrder);
+  if (!loops.empty()) fairCaps(result.mesh, firstCap, options.fairingOrder, loneCentre);
 
   result.capVertex.assign(result.mesh.n_vertices(), 0);
   std::fill(result.capVertex.begin() + firstCap, result.capVertex.end(), 1);

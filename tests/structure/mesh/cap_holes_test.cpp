@@ -280,6 +280,32 @@ TEST_CASE("cap_holes: fairing order 2 continues the surface, order 1 spans the l
   CHECK(capSelfIntersections(pushed) > 0);
 }
 
+TEST_CASE("cap_holes: a cap with a centre alone is a membrane at either order", "[structure]") {
+  // ChineseDragon-10kv.off: two holes of 3 edges on a rough scan. Fairing of order 2 asked the
+  // one cap vertex to make the loop's vertices the mean of their neighbours, which put it at an
+  // angle sum of 0.09 (a spike no cone placement can flatten). Now each centre is the mean of its
+  // loop: a flat fan, angle sum 2 pi.
+  const TriMesh input = test::realMesh("ChineseDragon-10kv.off");
+  const CappedSurface capped = structure::capHoles(input);
+  checkCapped("ChineseDragon-10kv", input, capped);
+  int centres = 0;
+  for (auto v : capped.mesh.vertices()) {
+    if (!capped.capVertex[v.idx()]) continue;
+    ++centres;
+    Vec3 mean(0.0, 0.0, 0.0);
+    double angleSum = 0.0;
+    for (auto h : capped.mesh.voh_range(v)) {
+      mean += capped.mesh.point(h.to()) / double(capped.mesh.valence(v));
+      const Vec3 a = capped.mesh.point(h.to()) - capped.mesh.point(v);
+      const Vec3 b = capped.mesh.point(h.prev().from()) - capped.mesh.point(v);
+      angleSum += std::atan2(OpenMesh::cross(a, b).norm(), OpenMesh::dot(a, b));
+    }
+    CHECK((capped.mesh.point(v) - mean).norm() < 1e-9);
+    CHECK(angleSum == Approx(2.0 * kPi).epsilon(1e-9));
+  }
+  CHECK(centres == 2);
+}
+
 TEST_CASE("cap_holes: a closed mesh is returned unchanged", "[structure]") {
   const TriMesh input = test::icosphere(2);
   const CappedSurface capped = structure::capHoles(input);
