@@ -16,7 +16,8 @@ struct CapOptions {
   /// 2: the cap minimizes the umbrella bi-Laplacian energy with the scan fixed, so it continues
   /// the surface's tangent plane across the loop and bulges smoothly; 1: the umbrella Laplacian
   /// (a membrane spanning the loop, no bulge). A cap whose only vertex is its centre (a loop of
-  /// up to 9 edges at factor 1) is a membrane at either order.
+  /// up to 9 edges at factor 1) and whose angle sum order 2 leaves below pi (a spike) takes the
+  /// mean of its loop.
   int fairingOrder = 2;
 };
 

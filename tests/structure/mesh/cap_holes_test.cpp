@@ -280,11 +280,12 @@ TEST_CASE("cap_holes: fairing order 2 continues the surface, order 1 spans the l
   CHECK(capSelfIntersections(pushed) > 0);
 }
 
-TEST_CASE("cap_holes: a cap with a centre alone is a membrane at either order", "[structure]") {
+TEST_CASE("cap_holes: a centre alone that order 2 makes a spike is the mean of its loop",
+          "[structure]") {
   // ChineseDragon-10kv.off: two holes of 3 edges on a rough scan. Fairing of order 2 asked the
-  // one cap vertex to make the loop's vertices the mean of their neighbours, which put it at an
-  // angle sum of 0.09 (a spike no cone placement can flatten). Now each centre is the mean of its
-  // loop: a flat fan, angle sum 2 pi.
+  // one cap vertex to make the loop's vertices the mean of their neighbours, which put it at
+  // angle sums of 1.05 and 0.09 (spikes no cone placement can flatten). Now each centre is the
+  // mean of its loop: a flat fan, angle sum 2 pi.
   const TriMesh input = test::realMesh("ChineseDragon-10kv.off");
   const CappedSurface capped = structure::capHoles(input);
   checkCapped("ChineseDragon-10kv", input, capped);
