@@ -66,7 +66,7 @@ struct GridFigures {
   /// Cell side in the flat metric, and the largest rounding of a rectangle side to whole cells
   /// (motorcycle layouts).
   double cellSize = 0.0, maxRoundingError = 0.0;
-  /// Segments shorter than a tenth of a cell given none, and rectangles left without area
+  /// Segments shorter than a quarter of a cell given none, and rectangles left without area
   /// (layout_tmesh.h: collapse).
   int collapsedSegments = 0, collapsedRectangles = 0;
   /// The whole numbers of cells are a proven optimum (layout_tmesh.h: rounding), found by this

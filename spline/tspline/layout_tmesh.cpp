@@ -44,11 +44,9 @@ SideScale sideScale(const MotorcycleLayout& layout, const std::vector<int>& segm
   return scale;
 }
 
-// A segment shorter than this many cells may collapse. The points of a collapsed rectangle are
-// crushed onto a line, which the fit cannot follow where the rectangle is not thin: with half a
-// cell, homer's fit folded 1,373 times, with a tenth 44 times (ellipsoid's and cactus's slivers are
-// 1e-8 and 1e-3 of a cell).
-constexpr double kCollapseBelow = 0.1;
+// When collapses break the mesh, those of segments at least this many cells long are undone
+// first, and all of them only if the mesh still breaks.
+constexpr double kSliver = 0.1;
 
 // Vertex ids joined into one T-mesh vertex by collapses.
 struct VertexClasses {
@@ -322,9 +320,11 @@ LayoutTMesh layoutTMesh(const MotorcycleLayout& layout, const LayoutTMeshOptions
   const auto& rectangles = layout.rectangles();
   if (!(options.cellSize > 0.0))
     throw structure::InputError("layout T-mesh: cell size must be positive");
+  if (!(options.collapseBelow >= 0.0 && options.collapseBelow < 1.0))
+    throw structure::InputError("layout T-mesh: the collapse threshold must be in [0, 1) cells");
   const std::size_t n = segments.size();
   // A segment from a node back to itself needs two cells, or its cells would repeat the node;
-  // other segments need one, or none when shorter than kCollapseBelow cells and their collapse
+  // other segments need one, or none when shorter than collapseBelow cells and their collapse
   // holds.
   std::vector<int> required(n, 1);
   std::vector<char> collapsible(n, 1);
@@ -341,8 +341,9 @@ LayoutTMesh layoutTMesh(const MotorcycleLayout& layout, const LayoutTMeshOptions
   for (int attempt = 0; attempt < 64; ++attempt) {
     for (std::size_t e = 0; e < n; ++e)
       quantize.minimumCells[e] =
-          collapsible[e] && segments[e].length() < kCollapseBelow * options.cellSize ? 0
-                                                                                     : required[e];
+          collapsible[e] && segments[e].length() < options.collapseBelow * options.cellSize
+              ? 0
+              : required[e];
     const Quantization quantization = quantizeSegments(layout, quantize);
     ++grid.quantizations;
     grid.quantizationSeconds += quantization.seconds;
@@ -352,7 +353,14 @@ LayoutTMesh layoutTMesh(const MotorcycleLayout& layout, const LayoutTMeshOptions
     const AssemblyFailure failure = assembleCells(layout, grid);
     if (!failure.failed()) return grid;
     for (const auto& separation : failure.separations) quantize.separations.push_back(separation);
-    for (int e : failure.uncollapse) collapsible[std::size_t(e)] = 0;
+    // Undoing every collapse gives slivers a whole cell across (man's cells 368 times longer than
+    // wide): the collapses of segments longer than a sliver go first.
+    bool longerThanSliver = false;
+    for (int e : failure.uncollapse)
+      longerThanSliver |= segments[std::size_t(e)].length() >= kSliver * options.cellSize;
+    for (int e : failure.uncollapse)
+      if (!longerThanSliver || segments[std::size_t(e)].length() >= kSliver * options.cellSize)
+        collapsible[std::size_t(e)] = 0;
     // Cells of that rectangle repeat a vertex: two cells at least along each of its segments.
     if (failure.repeatingRectangle >= 0)
       for (const auto& side : rectangles[std::size_t(failure.repeatingRectangle)].sides)

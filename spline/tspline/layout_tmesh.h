@@ -14,11 +14,11 @@
 // grid (they get one cell each where they may not collapse), whatever parities the quarter-turn
 // holonomy imposes.
 //
-// Collapse: a segment shorter than a tenth of a cell may get no cell. Its two nodes become one
-// T-mesh vertex, and a rectangle left without cells across (two traces running that close)
-// has its two long sides glued together. Without this, the sliver between two nearly coincident
-// traces got a whole cell across and cells a million times longer than wide (ellipsoid). A
-// collapse that joins two cones or repeats a vertex in a cell is undone where it happened: the
+// Collapse: a segment shorter than a quarter of a cell (an option) may get no cell. Its two nodes
+// become one T-mesh vertex, and a rectangle left without cells across (two traces running that
+// close) has its two long sides glued together. Without this, the sliver between two nearly
+// coincident traces got a whole cell across and cells a million times longer than wide (ellipsoid).
+// A collapse that joins two cones or repeats a vertex in a cell is undone where it happened: the
 // chain of collapses that joined them must get a cell somewhere (a separation constraint, as in
 // quantized global parametrization) and the integer program is solved again; a collapse that
 // breaks the mesh otherwise gives all collapsed segments a cell.
@@ -33,6 +33,11 @@ namespace mspline::spline {
 struct LayoutTMeshOptions {
   /// Target cell side in the layout's flat metric.
   double cellSize = 1.0;
+  /// A segment shorter than this many cells may get no cell. Its points are crushed onto a line,
+  /// which the fit follows badly where the strip is wide (homer folded 1,373 times at half a
+  /// cell); a whole cell across a strip stretches the cells instead. Over the data set a quarter
+  /// of a cell left fewer folds and cells than a tenth (README).
+  double collapseBelow = 0.25;
 };
 
 struct LayoutTMesh {

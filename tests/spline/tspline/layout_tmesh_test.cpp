@@ -45,6 +45,13 @@ void checkOppositeSides(const structure::MotorcycleLayout& layout,
     }
 }
 
+// The cell side that divides the layout's flat area into about `cells` squares.
+double cellSizeFor(const structure::MotorcycleLayout& layout, double cells) {
+  double area = 0.0;
+  for (const auto& r : layout.rectangles()) area += r.width() * r.height();
+  return std::sqrt(area / cells);
+}
+
 }  // namespace
 
 TEST_CASE("layout_tmesh: a seamless quad mesh with the cones as its only extraordinary points",
@@ -52,9 +59,7 @@ TEST_CASE("layout_tmesh: a seamless quad mesh with the cones as its only extraor
   const test::FlatMetric flat = test::eightConeSphere();
   const structure::MotorcycleLayout layout(flat.surface, flat.lengths);
   spline::LayoutTMeshOptions options;
-  double area = 0.0;
-  for (const auto& r : layout.rectangles()) area += r.width() * r.height();
-  options.cellSize = std::sqrt(area / 600.0);
+  options.cellSize = cellSizeFor(layout, 600);
   const spline::LayoutTMesh grid = spline::layoutTMesh(layout, options);
   const spline::TMesh& mesh = grid.mesh;
   // About the cells asked for, all unit squares, no T-junctions.
@@ -78,9 +83,10 @@ TEST_CASE("layout_tmesh: a seamless quad mesh with the cones as its only extraor
   }
   CHECK(extraordinary == 8);
   checkOppositeSides(layout, grid);
-  // A segment gets no cell only when shorter than a tenth of a cell.
+  // A segment gets no cell only when shorter than the collapse threshold.
   for (std::size_t e = 0; e < grid.segmentCells.size(); ++e)
-    if (grid.segmentCells[e] == 0) CHECK(layout.segments()[e].length() < 0.1 * grid.cellSize);
+    if (grid.segmentCells[e] == 0)
+      CHECK(layout.segments()[e].length() < options.collapseBelow * grid.cellSize);
   CHECK(grid.maxRoundingError < 3.0);
 }
 
@@ -208,10 +214,8 @@ TEST_CASE("layout_tmesh: traces that met head-on leave no sliver to collapse", "
   // they meet half-way, and the grid is four rectangles of square cells.
   const test::FlatMetric flat = test::seamlessFlatMetric(test::realMesh("ellipsoid.off"));
   const structure::MotorcycleLayout layout(flat.surface, flat.lengths);
-  double area = 0.0;
-  for (const auto& r : layout.rectangles()) area += r.width() * r.height();
   spline::LayoutTMeshOptions options;
-  options.cellSize = std::sqrt(area / 2000.0);
+  options.cellSize = cellSizeFor(layout, 2000);
   const spline::LayoutTMesh grid = spline::layoutTMesh(layout, options);
   CHECK(grid.collapsedRectangles == 0);
   CHECK(grid.maxAnisotropy < 1.05);
@@ -229,10 +233,8 @@ TEST_CASE("layout_tmesh: segments far shorter than a cell that may not collapse 
   // the integer program always does.
   const test::FlatMetric flat = test::clusteredConesCow();
   const structure::MotorcycleLayout layout(flat.surface, flat.lengths);
-  double area = 0.0;
-  for (const auto& r : layout.rectangles()) area += r.width() * r.height();
   spline::LayoutTMeshOptions options;
-  options.cellSize = std::sqrt(area / 6000.0);
+  options.cellSize = cellSizeFor(layout, 6000);
   // Segments shorter than a tenth of a cell at a cone.
   std::vector<std::size_t> shortAtCone;
   for (std::size_t e = 0; e < layout.segments().size(); ++e) {
@@ -284,4 +286,31 @@ TEST_CASE("layout_tmesh: a bad cell size is refused", "[spline]") {
   spline::LayoutTMeshOptions options;
   options.cellSize = 0.0;
   CHECK_THROWS_AS(spline::layoutTMesh(layout, options), structure::InputError);
+  options.cellSize = 0.1;
+  options.collapseBelow = 1.0;
+  CHECK_THROWS_AS(spline::layoutTMesh(layout, options), structure::InputError);
+}
+
+TEST_CASE("layout_tmesh: man.off, collapses that break the grid are undone longest first",
+          "[spline][slow]") {
+  // At about 1,500 cells, collapsing man's segments under a quarter of a cell glues a rectangle
+  // into a mesh that does not close up. Undoing every collapse then gave the slivers a whole cell
+  // across, cells 368 times longer than wide; undoing those longer than a tenth of a cell first
+  // keeps the slivers collapsed.
+  const test::FlatMetric flat = test::seamlessFlatMetric(test::realMesh("man.off"));
+  const structure::MotorcycleLayout layout(flat.surface, flat.lengths);
+  spline::LayoutTMeshOptions options;
+  options.cellSize = cellSizeFor(layout, 1500);
+  const spline::LayoutTMesh grid = spline::layoutTMesh(layout, options);
+  CHECK(grid.quantizations > 1);
+  int slivers = 0;
+  for (std::size_t e = 0; e < grid.segmentCells.size(); ++e) {
+    if (grid.segmentCells[e] != 0) continue;
+    const double length = layout.segments()[e].length() / options.cellSize;
+    CHECK(length < options.collapseBelow);
+    slivers += length < 0.1;
+  }
+  CHECK(slivers > 10);
+  CHECK(grid.maxAnisotropy < 10.0);
+  checkOppositeSides(layout, grid);
 }
