@@ -21,7 +21,8 @@
 // A collapse that joins two cones or repeats a vertex in a cell is undone where it happened: the
 // chain of collapses that joined them must get a cell somewhere (a separation constraint, as in
 // quantized global parametrization) and the integer program is solved again; a collapse that
-// breaks the mesh otherwise gives all collapsed segments a cell.
+// breaks the mesh otherwise gives a cell to the collapsed segments longer than a tenth of a cell,
+// and to all of them if it still breaks.
 #include <array>
 #include <vector>
 
@@ -36,7 +37,8 @@ struct LayoutTMeshOptions {
   /// A segment shorter than this many cells may get no cell. Its points are crushed onto a line,
   /// which the fit follows badly where the strip is wide (homer folded 1,373 times at half a
   /// cell); a whole cell across a strip stretches the cells instead. Over the data set a quarter
-  /// of a cell left fewer folds and cells than a tenth (README).
+  /// of a cell gave fewer stretched cells and fewer folds than a tenth, though not on every mesh
+  /// (README).
   double collapseBelow = 0.25;
 };
 
