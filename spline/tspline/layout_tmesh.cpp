@@ -355,12 +355,13 @@ LayoutTMesh layoutTMesh(const MotorcycleLayout& layout, const LayoutTMeshOptions
     for (const auto& separation : failure.separations) quantize.separations.push_back(separation);
     // Undoing every collapse gives slivers a whole cell across (man's cells 368 times longer than
     // wide): the collapses of segments longer than a sliver go first.
-    bool longerThanSliver = false;
+    const auto longerThanSliver = [&](int e) {
+      return segments[std::size_t(e)].length() >= kSliver * options.cellSize;
+    };
+    const bool anyLonger =
+        std::any_of(failure.uncollapse.begin(), failure.uncollapse.end(), longerThanSliver);
     for (int e : failure.uncollapse)
-      longerThanSliver |= segments[std::size_t(e)].length() >= kSliver * options.cellSize;
-    for (int e : failure.uncollapse)
-      if (!longerThanSliver || segments[std::size_t(e)].length() >= kSliver * options.cellSize)
-        collapsible[std::size_t(e)] = 0;
+      if (!anyLonger || longerThanSliver(e)) collapsible[std::size_t(e)] = 0;
     // Cells of that rectangle repeat a vertex: two cells at least along each of its segments.
     if (failure.repeatingRectangle >= 0)
       for (const auto& side : rectangles[std::size_t(failure.repeatingRectangle)].sides)
