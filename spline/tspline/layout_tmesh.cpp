@@ -335,6 +335,7 @@ LayoutTMesh layoutTMesh(const MotorcycleLayout& layout, const LayoutTMeshOptions
     }
   LayoutTMesh grid;
   grid.cellSize = options.cellSize;
+  grid.quantizationOptimal = true;
   QuantizeOptions quantize;
   quantize.cellSize = options.cellSize;
   quantize.minimumCells.resize(n);
@@ -347,7 +348,7 @@ LayoutTMesh layoutTMesh(const MotorcycleLayout& layout, const LayoutTMeshOptions
     const Quantization quantization = quantizeSegments(layout, quantize);
     ++grid.quantizations;
     grid.quantizationSeconds += quantization.seconds;
-    grid.quantizationOptimal = quantization.optimal;
+    grid.quantizationOptimal = grid.quantizationOptimal && quantization.optimal;
     grid.segmentCells = quantization.segmentCells;
     grid.maxRoundingError = quantization.maxRoundingError;
     const AssemblyFailure failure = assembleCells(layout, grid);

@@ -67,7 +67,7 @@ struct LayoutTMesh {
   /// The same ratio's 99th percentile over the cells (each cell has its rectangle's).
   double anisotropyP99 = 1.0;
   /// Integer programs solved (one, and one more per collapse undone), their time in seconds, and
-  /// whether the last was solved to proven optimality (false: stopped by its time limit).
+  /// whether every one was solved to proven optimality (false: one stopped at its time limit).
   int quantizations = 0;
   double quantizationSeconds = 0.0;
   bool quantizationOptimal = false;

@@ -116,9 +116,8 @@ Quantization quantizeSegments(const MotorcycleLayout& layout, const QuantizeOpti
   // but searched one of femur's (1,500 control points) for its whole limit without meeting a whole
   // solution; the MIP presolver with Gomory cuts settles that one at once and stalls on another of
   // femur's (2,200). So plain branching gets a short first try, and the presolver with cuts, on a
-  // copy made before it, the rest of the time limit unless the first try proved its optimum.
-  std::unique_ptr<glp_prob, decltype(&glp_delete_prob)> copy(glp_create_prob(), &glp_delete_prob);
-  glp_copy_prob(copy.get(), lp, GLP_OFF);
+  // copy (the first try leaves the problem's data as they were, and the presolver needs no
+  // basis), the rest of the time limit unless the first try proved its optimum.
   const double limit = std::min(options.timeLimit, 1e6);
   const auto branchAndCut = [](glp_prob* mip, bool presolveAndCuts, double seconds) {
     glp_iocp branch;
@@ -131,7 +130,10 @@ Quantization quantizeSegments(const MotorcycleLayout& layout, const QuantizeOpti
   glp_prob* solved = lp;
   int code = branchAndCut(lp, false, std::min(kPlainBranchingSeconds, limit));
   int status = glp_mip_status(lp);
+  std::unique_ptr<glp_prob, decltype(&glp_delete_prob)> copy(nullptr, &glp_delete_prob);
   if (status != GLP_OPT && limit > kPlainBranchingSeconds) {
+    copy.reset(glp_create_prob());
+    glp_copy_prob(copy.get(), lp, GLP_OFF);
     const int codeWithCuts = branchAndCut(copy.get(), true, limit - kPlainBranchingSeconds);
     const int statusWithCuts = glp_mip_status(copy.get());
     if (statusWithCuts == GLP_OPT ||
