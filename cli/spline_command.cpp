@@ -1,6 +1,6 @@
 // mspline spline: a manifold spline on a mesh, saved as a model file (.msp): the mesh flattened
 // (structure/flatten/flatten_surface.h), the spline space built on it and its control points
-// fitted to the mesh in one solve (spline/model/build_spline.h).
+// fitted to the mesh with fairing and parameter correction (spline/model/build_spline.h).
 #include <iostream>
 
 #include "cli/command.h"
@@ -27,6 +27,7 @@ struct SplineArguments {
   double cloudRadius = 0.3;
   double grid = 0.0;
   unsigned seed = 1;
+  spline::ControlPointFitOptions fit;
   FlattenSettings settings;
 };
 
@@ -67,6 +68,13 @@ void addSplineCommand(CLI::App& app, Command& command) {
                   "(0, 0.5] (default 0.3)")
       ->check(CLI::Range(1e-3, 0.5));
   sub->add_option("--seed", arguments->seed, "Seed of the knot clouds (default 1)");
+  sub->add_option("--smoothing", arguments->fit.smoothing,
+                  "Fairing weight relative to the data term (default: chosen by hold-out "
+                  "validation among 1e-1 .. 1e-7)")
+      ->check(CLI::Range(0.0, 1e3));
+  sub->add_option("--rounds", arguments->fit.correctionRounds,
+                  "Parameter correction rounds (default 3)")
+      ->check(CLI::Range(0, 50));
   addFlattenOptions(*sub, arguments->settings);
   sub->add_flag("--json", command.json, "Print one JSON object on stdout");
   sub->callback([&command, arguments] {
@@ -107,7 +115,7 @@ void addSplineCommand(CLI::App& app, Command& command) {
       options.grid = a.grid;
       spline::SplineSpaceBuild build = spline::buildSpline(flattening, options, progress);
       addStages(stages, build.stageSeconds);
-      const spline::ControlPointFit fit = spline::fitControlPoints(build, progress);
+      const spline::ControlPointFit fit = spline::fitControlPoints(build, a.fit, progress);
       addStages(stages, fit.stageSeconds);
       const spline::SplineModel& model = build.model;
       clock.lap();
@@ -132,6 +140,8 @@ void addSplineCommand(CLI::App& app, Command& command) {
         report.update(domainJson(build.domain));
       report.update(Json{{"fit_rms_error", fit.rmsError / diagonal},
                          {"fit_max_error", fit.maxError / diagonal},
+                         {"smoothing", fit.smoothing},
+                         {"correction_rounds", fit.correctionRounds},
                          {"basis_without_samples", fit.basisWithoutSamples},
                          {"fit_samples", build.targets.rows()},
                          {tspline ? "sites_in_holes" : "sites_at_cones", fit.samplesOutside}});

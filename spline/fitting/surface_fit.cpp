@@ -139,7 +139,6 @@ Solve solveAt(const FitSpace& space, const std::vector<FacePoint>& parameters,
   solve.smoothing = smoothing;
   if (smoothing < 0.0) {
     // Hold-out validation: every eighth sample is left out of the fit and predicts.
-    std::vector<Eigen::Triplet<double>> trainEntries, testEntries;
     std::vector<Eigen::Index> trainRows, testRows;
     for (Eigen::Index r = 0; r < design.rows(); ++r) {
       auto& list = r % 8 == 7 ? testRows : trainRows;

@@ -268,15 +268,13 @@ std::vector<FacePoint> tmeshFitParameters(const SplineSpaceBuild& build) {
   return parameters;
 }
 
-ControlPointFit fitControlPoints(SplineSpaceBuild& build, const Progress& progress) {
+ControlPointFit fitControlPoints(SplineSpaceBuild& build, const ControlPointFitOptions& options,
+                                 const Progress& progress) {
   ControlPointFit result;
   Stopwatch clock;
-  // One solve at the samples' own parameters: no fairing, no parameter correction, and the
-  // errors measured where the samples are (no projection).
-  SurfaceFitOptions options;
-  options.smoothing = 0.0;
-  options.correctionRounds = 0;
-  options.projectionSteps = 0;
+  SurfaceFitOptions fitOptions;
+  fitOptions.smoothing = options.smoothing;
+  fitOptions.correctionRounds = options.correctionRounds;
   SplineModel& model = build.model;
   SurfaceFitResult fit;
   if (model.kind == SplineKind::TriangularBSpline) {
@@ -288,7 +286,9 @@ ControlPointFit fitControlPoints(SplineSpaceBuild& build, const Progress& progre
     for (const auto& p : build.domainSites) parameters.push_back(toFitParameter(space, p));
     report(progress, "fitting " + std::to_string(space.numBasis()) + " control points to " +
                          std::to_string(parameters.size()) + " samples");
-    fit = fitSurface(fitSpace, parameters, build.targets, options);
+    fit = fitSurface(fitSpace, parameters, build.targets, fitOptions, progress);
+    for (std::size_t v = 0; v < model.surfaceVertexLocations.size(); ++v)
+      model.surfaceVertexLocations[v] = toDomainPoint(space, fit.parameters[v]);
   } else {
     report(progress,
            std::to_string(model.tmesh.numFaces()) + " cells; inferring the blending functions");
@@ -299,11 +299,15 @@ ControlPointFit fitControlPoints(SplineSpaceBuild& build, const Progress& progre
     const TSplineFitSpace fitSpace(space, model.weights);
     report(progress, "fitting " + std::to_string(space.numBasis()) + " control points to " +
                          std::to_string(build.tmeshSites.size()) + " samples");
-    fit = fitSurface(fitSpace, tmeshFitParameters(build), build.targets, options);
+    fit = fitSurface(fitSpace, tmeshFitParameters(build), build.targets, fitOptions, progress);
+    for (std::size_t v = 0; v < model.surfaceVertexTMeshPoints.size(); ++v)
+      model.surfaceVertexTMeshPoints[v] = {fit.parameters[v].face, fit.parameters[v].position};
   }
   model.controlPoints = std::move(fit.controlPoints);
   result.rmsError = fit.rmsError;
   result.maxError = fit.maxError;
+  result.smoothing = fit.smoothing;
+  result.correctionRounds = fit.rounds;
   result.basisWithoutSamples = fit.basisWithoutSamples;
   result.samplesOutside = fit.samplesOutside;
   addStageSeconds(result.stageSeconds, "fit", clock.lap());

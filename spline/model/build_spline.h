@@ -3,7 +3,7 @@
 // of a seamless quad grid (T-splines, and subdivision surfaces on the same net) or the domain
 // triangulation with knot clouds (triangular B-splines); the surface copied into the model; and
 // the samples (the surface's vertices, then points inside its faces) with their parameters.
-// fitControlPoints then fits the control points in one solve.
+// fitControlPoints then fits the control points to the samples, faired, with parameter correction.
 #include <string>
 #include <utility>
 #include <vector>
@@ -127,12 +127,28 @@ std::vector<FacePoint> tmeshFitParameters(const SplineSpaceBuild& build);
 /// the surface vertices' T-mesh points follow.
 void splitCellsAroundCones(SplineSpaceBuild& build);
 
+/// How `spline` fits the control points of a built space to its samples. Fairing is what keeps
+/// the surface from folding between the samples: a T-spline on a coarse mesh has about as many
+/// control points as samples (femur: 18,064 for 38,036), and without fairing its surface shot
+/// sheets far out of the body (femur: 37,433 folded triangle pairs at export resolution 4).
+struct ControlPointFitOptions {
+  /// Fairing weight relative to the data term; < 0: chosen by hold-out validation
+  /// (spline/fitting/surface_fit.h).
+  double smoothing = -1.0;
+  /// Rounds of parameter correction (project the samples onto the surface, refit).
+  int correctionRounds = 3;
+};
+
 /// One fit of the control points of a built space to its samples, as `spline` makes a model from
-/// its mesh: the fitting engine (spline/fitting/surface_fit.h) with no fairing and no parameter
-/// correction (the samples keep their parameters), errors at the samples' parameters.
+/// its mesh: the fitting engine (spline/fitting/surface_fit.h) with fairing and parameter
+/// correction; no refinement.
 struct ControlPointFit {
-  /// RMS and maximum distance between the samples and the spline at their parameters (absolute).
+  /// RMS and maximum distance between the samples and the spline at their parameters after the
+  /// last projection (absolute).
   double rmsError = 0.0, maxError = 0.0;
+  /// The relative fairing weight used and the parameter correction rounds done.
+  double smoothing = 0.0;
+  int correctionRounds = 0;
   /// Basis functions that no sample lies under (held by the pull towards the quasi-interpolant).
   int basisWithoutSamples = 0;
   /// Samples where the spline is undefined (cone points, holes of a T-mesh), left out.
@@ -143,8 +159,11 @@ struct ControlPointFit {
   StageSeconds stageSeconds;
 };
 
-/// Sets build.model's control points (and unit weights for a T-spline) fitted to its samples.
-/// Throws SolverError when the system cannot be factored.
-ControlPointFit fitControlPoints(SplineSpaceBuild& build, const structure::Progress& progress = {});
+/// Sets build.model's control points (and unit weights for a T-spline) fitted to its samples, and
+/// the surface vertices' parameters to where parameter correction moved them. Throws SolverError
+/// when the system cannot be factored.
+ControlPointFit fitControlPoints(SplineSpaceBuild& build,
+                                 const ControlPointFitOptions& options = {},
+                                 const structure::Progress& progress = {});
 
 }  // namespace mspline::spline
