@@ -84,14 +84,13 @@ std::vector<int> splitWithinBudget(const FitState& state, const std::vector<int>
 }
 
 void split(FitState& state, const std::vector<int>& faces) {
-  for (const int f : faces) {
-    const Eigen::Index first = state.mesh.numFaces();
-    splitIntoFour(state.mesh, f, state.at);
-    // The new parts keep the face's fairing factor.
-    Eigen::VectorXd& fairing = state.fitOptions.faceFairing;
-    fairing.conservativeResize(state.mesh.numFaces());
-    fairing.tail(state.mesh.numFaces() - first).setConstant(fairing[f]);
-  }
+  const Eigen::Index first = state.mesh.numFaces();
+  splitIntoFour(state.mesh, faces, state.at);
+  // The new parts keep the face's fairing factor.
+  Eigen::VectorXd& fairing = state.fitOptions.faceFairing;
+  fairing.conservativeResize(state.mesh.numFaces());
+  for (std::size_t i = 0; i < faces.size(); ++i)
+    fairing.segment(first + 3 * Eigen::Index(i), 3).setConstant(fairing[faces[i]]);
 }
 
 // Multiplies the fairing factor of `faces` by options.foldFairing up to maxFoldFairing; the

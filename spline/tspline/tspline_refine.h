@@ -38,9 +38,13 @@ TMesh splitFace(const TMesh& mesh, int face, int axis, double coordinate);
 /// size. Throws SolverError when `mesh` has a cone without a cap already.
 std::vector<int> withWholeCapRegions(const TMesh& mesh, std::vector<int> faces);
 
-/// Splits `face` into four through its middle (splitFace along x, then both halves along y);
-/// `points` on it follow their parts (positions in the part's frame).
-void splitIntoFour(TMesh& mesh, int face, std::vector<FacePoint>& points);
+/// Splits each of `faces` (distinct) into four through its middle, giving the mesh that splitting
+/// them one after the other would (splitFace along x, then both halves along y), with one rebuild:
+/// face f keeps its lower left quarter, the i-th face listed appends its lower right, upper left
+/// and upper right quarters as faces numFaces() + 3i, + 3i + 1, + 3i + 2, and the new vertices are
+/// numbered in the order of those splits. `points` on a face follow its quarters (positions in the
+/// quarter's frame). Throws InputError for a face out of range or listed twice.
+void splitIntoFour(TMesh& mesh, const std::vector<int>& faces, std::vector<FacePoint>& points);
 
 /// Refines around the extraordinary vertices that have no cap (tspline_cap.h: another cone, a
 /// boundary or a T-junction within 4 cells, cells of other sizes): the faces within 3 cells of

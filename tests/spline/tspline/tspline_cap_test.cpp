@@ -267,7 +267,7 @@ TEST_CASE("tspline caps: refinement keeps caps, or makes them where cones are cl
   CHECK(faces.size() == 2 + 3 * 16 - 1);
   spline::TMesh mesh = star.mesh;
   std::vector<spline::FacePoint> points{{star.face(0, 0, 0), {0.75, 0.25}}};
-  for (int f : faces) spline::splitIntoFour(mesh, f, points);
+  spline::splitIntoFour(mesh, faces, points);
   const TSplineSpace refined(mesh);
   REQUIRE(refined.capFaces().size() == 3);
   CHECK(refined.capFaces()[0].face == star.face(0, 0, 0));
@@ -277,7 +277,7 @@ TEST_CASE("tspline caps: refinement keeps caps, or makes them where cones are cl
   CHECK(points[0].position.isApprox(Eigen::Vector2d(0.25, 0.25)));
   // Splitting only a face next to the region would put a T-junction into it.
   spline::TMesh broken = star.mesh;
-  spline::splitIntoFour(broken, star.face(0, 4, 0), points);
+  spline::splitIntoFour(broken, {star.face(0, 4, 0)}, points);
   CHECK_THROWS_AS(TSplineSpace(broken), structure::SolverError);
 
   // A cube of 2 x 2 cells a side: its corners 2 cells apart, then 4, then 8: capped.

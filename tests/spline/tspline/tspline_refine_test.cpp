@@ -8,10 +8,14 @@
 
 #include <Eigen/Core>
 
+#include "mspline/spline/tspline/layout_tmesh.h"
 #include "mspline/spline/tspline/tmesh.h"
 #include "mspline/spline/tspline/tspline.h"
 #include "mspline/spline/tspline/tspline_refine.h"
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/layout/motorcycle_layout.h"
+#include "support/flat_metric.h"
+#include "support/test_data.h"
 #include "support/test_tmeshes.h"
 
 using namespace mspline;
@@ -33,6 +37,29 @@ std::vector<double> knotLines(std::mt19937& rng, bool uniform) {
   std::vector<double> lines{0.0};
   for (int i = 0; i < kCells; ++i) lines.push_back(lines.back() + (uniform ? 1.0 : spacing(rng)));
   return lines;
+}
+
+// splitIntoFour's definition, one face at a time: splitFace along x through the middle, then each
+// half along y; points on the far part of a cut follow it.
+void splitOneByOne(TMesh& mesh, const std::vector<int>& faces,
+                   std::vector<spline::FacePoint>& points) {
+  const auto half = [&](int face, int axis) {
+    const spline::TMeshFace& f = mesh.faces[std::size_t(face)];
+    const double middle = 0.5 * (axis == 0 ? f.width : f.height);
+    const int far = mesh.numFaces();
+    mesh = spline::splitFace(mesh, face, axis, middle);
+    for (auto& p : points)
+      if (p.face == face && p.position[axis] >= middle) {
+        p.face = far;
+        p.position[axis] -= middle;
+      }
+  };
+  for (const int face : faces) {
+    const int right = mesh.numFaces();
+    half(face, 0);
+    half(face, 1);
+    half(right, 1);
+  }
 }
 
 double bboxDiagonal(const Eigen::MatrixXd& control) {
@@ -466,4 +493,56 @@ TEST_CASE("tspline_refine: bad input throws", "[spline]") {
   CHECK_THROWS_AS(spline::refine(space, control, Eigen::VectorXd::Ones(3), {}), InputError);
   CHECK_THROWS_WITH(spline::refine(space, control, {}, {{44, 0, 0.5}, {44, 0, 0.7}}),
                     Catch::Contains("split 1"));
+}
+
+TEST_CASE("tspline_refine: faces split into four at once as one after another", "[spline]") {
+  // A layout T-mesh of a real genus-2 mesh: T-junctions, turned frames across seams, cones.
+  const test::FlatMetric flat = test::seamlessFlatMetric(test::realMesh("eight.off"));
+  const structure::MotorcycleLayout layout(flat.surface, flat.lengths);
+  double area = 0.0;
+  for (const auto& r : layout.rectangles()) area += r.width() * r.height();
+  spline::LayoutTMeshOptions options;
+  options.cellSize = std::sqrt(area / 400.0);
+  const TMesh start = spline::layoutTMesh(layout, options).mesh;
+  std::mt19937 rng(7);
+  for (const double share : {0.05, 0.3, 1.0}) {
+    CAPTURE(share);
+    // Two rounds: the second splits quarters and faces next to T-junctions the first made.
+    TMesh atOnce = start, oneByOne = start;
+    std::vector<spline::FacePoint> points, pointsOneByOne;
+    for (int round = 0; round < 2; ++round) {
+      std::vector<int> faces;
+      for (int f = 0; f < atOnce.numFaces(); ++f)
+        if (std::uniform_real_distribution<double>(0.0, 1.0)(rng) < share) faces.push_back(f);
+      std::shuffle(faces.begin(), faces.end(), rng);
+      for (int k = 0; k < 3 * atOnce.numFaces(); ++k) {
+        const int f = int(rng() % std::uint32_t(atOnce.numFaces()));
+        points.push_back({f, test::randomPointIn(atOnce.faces[std::size_t(f)], rng)});
+      }
+      pointsOneByOne = points;
+      spline::splitIntoFour(atOnce, faces, points);
+      splitOneByOne(oneByOne, faces, pointsOneByOne);
+      REQUIRE(atOnce.numVertices == oneByOne.numVertices);
+      REQUIRE(atOnce.numFaces() == oneByOne.numFaces());
+      for (int f = 0; f < atOnce.numFaces(); ++f) {
+        const spline::TMeshFace& a = atOnce.faces[std::size_t(f)];
+        const spline::TMeshFace& b = oneByOne.faces[std::size_t(f)];
+        REQUIRE(a.vertices == b.vertices);
+        CHECK(a.twinFace == b.twinFace);
+        CHECK(a.twinEdge == b.twinEdge);
+        for (std::size_t k = 0; k < a.positions.size(); ++k)
+          CHECK((a.positions[k] - b.positions[k]).norm() <= 1e-12 * a.width);
+      }
+      CHECK(atOnce.quarterTurnsAround == oneByOne.quarterTurnsAround);
+      for (std::size_t k = 0; k < points.size(); ++k) {
+        CHECK(points[k].face == pointsOneByOne[k].face);
+        CHECK((points[k].position - pointsOneByOne[k].position).norm() <= 1e-12);
+      }
+      oneByOne = atOnce;
+    }
+  }
+  TMesh mesh = start;
+  std::vector<spline::FacePoint> none;
+  CHECK_THROWS_AS(spline::splitIntoFour(mesh, {3, 3}, none), structure::InputError);
+  CHECK_THROWS_AS(spline::splitIntoFour(mesh, {start.numFaces()}, none), structure::InputError);
 }
