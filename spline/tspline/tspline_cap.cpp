@@ -80,6 +80,12 @@ int TSplineCapRegion::vertexAt(int sector, int i, int j) const {
 }
 
 std::string findCapRegion(const TMesh& mesh, int vertex, TSplineCapRegion& region) {
+  FaceDeveloper developer(mesh);
+  return findCapRegion(mesh, vertex, region, developer);
+}
+
+std::string findCapRegion(const TMesh& mesh, int vertex, TSplineCapRegion& region,
+                          FaceDeveloper& developer) {
   region = TSplineCapRegion{};
   region.vertex = vertex;
   double scale = 1.0;
@@ -129,8 +135,8 @@ std::string findCapRegion(const TMesh& mesh, int vertex, TSplineCapRegion& regio
     const TMeshFace& first = mesh.faces[std::size_t(f)];
     if (std::abs(first.width - d) > tolerance || std::abs(first.height - d) > tolerance)
       return "its faces are not squares of one size";
-    developed = developFaces(mesh, f, toSector(first, c), Eigen::Vector2d::Zero(),
-                             Eigen::Vector2d::Constant(kCells * d), true);
+    developed = developer.develop(f, toSector(first, c), Eigen::Vector2d::Zero(),
+                                  Eigen::Vector2d::Constant(kCells * d), true);
     std::array<bool, 16> filled{};
     auto& vertices = region.vertices[std::size_t(k)];
     vertices.fill(-1);
@@ -180,10 +186,11 @@ std::string findCapRegion(const TMesh& mesh, int vertex, TSplineCapRegion& regio
 
 std::vector<TSplineCapRegion> capRegions(const TMesh& mesh) {
   std::vector<TSplineCapRegion> regions;
+  FaceDeveloper developer(mesh);
   for (int v = 0; v < mesh.numVertices; ++v) {
     if (!mesh.isExtraordinary(v)) continue;
     TSplineCapRegion region;
-    const std::string failure = findCapRegion(mesh, v, region);
+    const std::string failure = findCapRegion(mesh, v, region, developer);
     if (!failure.empty())
       throw structure::SolverError("T-spline: no cap at extraordinary vertex " + std::to_string(v) +
                                    ": " + failure);

@@ -62,6 +62,10 @@ struct TSplineCapRegion {
 };
 
 /// Why vertex `vertex` of `mesh` (extraordinary) has no cap, or "" and `region` filled.
+/// `developer` is a FaceDeveloper of `mesh`, shared by the calls for one mesh (each builds the
+/// frame changes of the whole mesh).
+std::string findCapRegion(const TMesh& mesh, int vertex, TSplineCapRegion& region,
+                          FaceDeveloper& developer);
 std::string findCapRegion(const TMesh& mesh, int vertex, TSplineCapRegion& region);
 
 /// The cap regions of every extraordinary vertex of `mesh`. Throws SolverError naming the vertex

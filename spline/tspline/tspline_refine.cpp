@@ -535,10 +535,11 @@ int refineAroundCones(TMesh& mesh, std::vector<FacePoint>& points, int maxRounds
     std::vector<char> marked(mesh.faces.size(), 0);
     std::vector<TSplineCapRegion> regions;
     std::vector<int> ring;
+    FaceDeveloper developer(mesh);
     for (int v = 0; v < mesh.numVertices; ++v) {
       TSplineCapRegion region;
       if (!mesh.isExtraordinary(v)) continue;
-      if (findCapRegion(mesh, v, region).empty()) {
+      if (findCapRegion(mesh, v, region, developer).empty()) {
         regions.push_back(std::move(region));
         continue;
       }
