@@ -61,6 +61,10 @@ void addViewCommand(CLI::App& app, Command& command);
 /// become U+FFFD: the output stays valid JSON.
 void printJson(const Json& object);
 
+/// `--smoothing` and `--rounds`: the fitting engine's fairing weight (default: hold-out
+/// validation) and parameter correction rounds (default 3), shared by `fit` and `spline`.
+void addFairingOptions(CLI::App& sub, double& smoothing, int& correctionRounds);
+
 /// Progress as lines "<command>: <message>" on stderr, one per message (a stage reported at
 /// fraction 1); nothing when `quiet`. Every message becomes command.stage.
 structure::Progress progressLines(Command& command, bool quiet);

@@ -119,13 +119,7 @@ void addFitCommand(CLI::App& app, Command& command) {
                   "Control points to start with (default: 3/4 of the budget; subd keeps this "
                   "grid, the T-spline's initial one)")
       ->check(CLI::Range(20, 10000000));
-  sub->add_option("--smoothing", arguments->fit.smoothing,
-                  "Fairing weight relative to the data term (default: chosen by hold-out "
-                  "validation among 1e-1 .. 1e-7)")
-      ->check(CLI::Range(0.0, 1e3));
-  sub->add_option("--rounds", arguments->fit.correctionRounds,
-                  "Parameter correction rounds per fit (default 3)")
-      ->check(CLI::Range(0, 50));
+  addFairingOptions(*sub, arguments->fit.smoothing, arguments->fit.correctionRounds);
   sub->add_option("--max-refinements", arguments->fit.maxRefinements,
                   "Refinement rounds at most (default 6)")
       ->check(CLI::Range(0, 50));

@@ -83,10 +83,9 @@ void printText(const Json& info) {
     }
     std::printf("%-21s %s\n", key, value.is_null() ? unknown.c_str() : text.c_str());
   };
-  for (const char* key :
-       {"file", "vertices", "edges", "faces", "components", "boundaries", "euler", "genus",
-        "closed", "orientable", "bbox_diagonal", "min_angle_degrees", "median_angle_degrees",
-        "max_dihedral_degrees", "folded_edges"}) {
+  for (const char* key : {"file", "vertices", "edges", "faces", "components", "boundaries", "euler",
+                          "genus", "closed", "orientable", "bbox_diagonal", "min_angle_degrees",
+                          "median_angle_degrees", "max_dihedral_degrees", "folded_edges"}) {
     if (info.contains(key)) line(key, info[key]);
   }
   if (info["problems"].empty()) {

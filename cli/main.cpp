@@ -11,6 +11,15 @@
 
 namespace mspline::cli {
 
+void addFairingOptions(CLI::App& sub, double& smoothing, int& correctionRounds) {
+  sub.add_option("--smoothing", smoothing,
+                 "Fairing weight relative to the data term (default: chosen by hold-out "
+                 "validation among 1e-1 .. 1e-7)")
+      ->check(CLI::Range(0.0, 1e3));
+  sub.add_option("--rounds", correctionRounds, "Parameter correction rounds per fit (default 3)")
+      ->check(CLI::Range(0, 50));
+}
+
 void printJson(const Json& object) {
   std::cout << object.dump(2, ' ', false, Json::error_handler_t::replace) << std::endl;
 }

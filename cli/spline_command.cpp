@@ -68,13 +68,7 @@ void addSplineCommand(CLI::App& app, Command& command) {
                   "(0, 0.5] (default 0.3)")
       ->check(CLI::Range(1e-3, 0.5));
   sub->add_option("--seed", arguments->seed, "Seed of the knot clouds (default 1)");
-  sub->add_option("--smoothing", arguments->fit.smoothing,
-                  "Fairing weight relative to the data term (default: chosen by hold-out "
-                  "validation among 1e-1 .. 1e-7)")
-      ->check(CLI::Range(0.0, 1e3));
-  sub->add_option("--rounds", arguments->fit.correctionRounds,
-                  "Parameter correction rounds (default 3)")
-      ->check(CLI::Range(0, 50));
+  addFairingOptions(*sub, arguments->fit.smoothing, arguments->fit.correctionRounds);
   addFlattenOptions(*sub, arguments->settings);
   sub->add_flag("--json", command.json, "Print one JSON object on stdout");
   sub->callback([&command, arguments] {
