@@ -27,7 +27,7 @@ struct SplineArguments {
   double cloudRadius = 0.3;
   double grid = 0.0;
   unsigned seed = 1;
-  spline::ControlPointFitOptions fit;
+  spline::SurfaceFitOptions fit;
   FlattenSettings settings;
 };
 

@@ -268,13 +268,10 @@ std::vector<FacePoint> tmeshFitParameters(const SplineSpaceBuild& build) {
   return parameters;
 }
 
-ControlPointFit fitControlPoints(SplineSpaceBuild& build, const ControlPointFitOptions& options,
+ControlPointFit fitControlPoints(SplineSpaceBuild& build, const SurfaceFitOptions& options,
                                  const Progress& progress) {
   ControlPointFit result;
   Stopwatch clock;
-  SurfaceFitOptions fitOptions;
-  fitOptions.smoothing = options.smoothing;
-  fitOptions.correctionRounds = options.correctionRounds;
   SplineModel& model = build.model;
   SurfaceFitResult fit;
   if (model.kind == SplineKind::TriangularBSpline) {
@@ -286,7 +283,7 @@ ControlPointFit fitControlPoints(SplineSpaceBuild& build, const ControlPointFitO
     for (const auto& p : build.domainSites) parameters.push_back(toFitParameter(space, p));
     report(progress, "fitting " + std::to_string(space.numBasis()) + " control points to " +
                          std::to_string(parameters.size()) + " samples");
-    fit = fitSurface(fitSpace, parameters, build.targets, fitOptions, progress);
+    fit = fitSurface(fitSpace, parameters, build.targets, options, progress);
     for (std::size_t v = 0; v < model.surfaceVertexLocations.size(); ++v)
       model.surfaceVertexLocations[v] = toDomainPoint(space, fit.parameters[v]);
   } else {
@@ -299,7 +296,7 @@ ControlPointFit fitControlPoints(SplineSpaceBuild& build, const ControlPointFitO
     const TSplineFitSpace fitSpace(space, model.weights);
     report(progress, "fitting " + std::to_string(space.numBasis()) + " control points to " +
                          std::to_string(build.tmeshSites.size()) + " samples");
-    fit = fitSurface(fitSpace, tmeshFitParameters(build), build.targets, fitOptions, progress);
+    fit = fitSurface(fitSpace, tmeshFitParameters(build), build.targets, options, progress);
     for (std::size_t v = 0; v < model.surfaceVertexTMeshPoints.size(); ++v)
       model.surfaceVertexTMeshPoints[v] = {fit.parameters[v].face, fit.parameters[v].position};
   }

@@ -127,18 +127,6 @@ std::vector<FacePoint> tmeshFitParameters(const SplineSpaceBuild& build);
 /// the surface vertices' T-mesh points follow.
 void splitCellsAroundCones(SplineSpaceBuild& build);
 
-/// How `spline` fits the control points of a built space to its samples. Fairing is what keeps
-/// the surface from folding between the samples: a T-spline on a coarse mesh has about as many
-/// control points as samples (femur: 18,064 for 38,036), and without fairing its surface shot
-/// sheets far out of the body (femur: 37,433 folded triangle pairs at export resolution 4).
-struct ControlPointFitOptions {
-  /// Fairing weight relative to the data term; < 0: chosen by hold-out validation
-  /// (spline/fitting/surface_fit.h).
-  double smoothing = -1.0;
-  /// Rounds of parameter correction (project the samples onto the surface, refit).
-  int correctionRounds = 3;
-};
-
 /// One fit of the control points of a built space to its samples, as `spline` makes a model from
 /// its mesh: the fitting engine (spline/fitting/surface_fit.h) with fairing and parameter
 /// correction; no refinement.
@@ -159,11 +147,14 @@ struct ControlPointFit {
   StageSeconds stageSeconds;
 };
 
-/// Sets build.model's control points (and unit weights for a T-spline) fitted to its samples, and
+/// Sets build.model's control points (and unit weights for a T-spline) fitted to its samples with
+/// `options` (fairing weighted by hold-out validation and parameter correction by default), and
 /// the surface vertices' parameters to where parameter correction moved them. Throws SolverError
-/// when the system cannot be factored.
-ControlPointFit fitControlPoints(SplineSpaceBuild& build,
-                                 const ControlPointFitOptions& options = {},
+/// when the system cannot be factored. Fairing is what keeps the surface from folding between the
+/// samples: a T-spline on a coarse mesh has about as many control points as samples (femur: 18,064
+/// for 38,036), and fitted without it the surface shot sheets far out of the body (femur: 37,433
+/// folded triangle pairs at export resolution 4).
+ControlPointFit fitControlPoints(SplineSpaceBuild& build, const SurfaceFitOptions& options = {},
                                  const structure::Progress& progress = {});
 
 }  // namespace mspline::spline

@@ -79,11 +79,6 @@ int TSplineCapRegion::vertexAt(int sector, int i, int j) const {
   return vertices[std::size_t(sector)][std::size_t(5 * j + i)];
 }
 
-std::string findCapRegion(const TMesh& mesh, int vertex, TSplineCapRegion& region) {
-  FaceDeveloper developer(mesh);
-  return findCapRegion(mesh, vertex, region, developer);
-}
-
 std::string findCapRegion(const TMesh& mesh, int vertex, TSplineCapRegion& region,
                           FaceDeveloper& developer) {
   region = TSplineCapRegion{};

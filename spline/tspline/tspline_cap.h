@@ -66,7 +66,6 @@ struct TSplineCapRegion {
 /// frame changes of the whole mesh).
 std::string findCapRegion(const TMesh& mesh, int vertex, TSplineCapRegion& region,
                           FaceDeveloper& developer);
-std::string findCapRegion(const TMesh& mesh, int vertex, TSplineCapRegion& region);
 
 /// The cap regions of every extraordinary vertex of `mesh`. Throws SolverError naming the vertex
 /// and the condition it fails.

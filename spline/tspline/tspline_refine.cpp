@@ -465,9 +465,9 @@ void splitIntoFour(TMesh& mesh, const std::vector<int>& faces, std::vector<FaceP
 
   // The quarters: the lower left keeps the face's id and frame; the lower right, upper left and
   // upper right are appended in that order.
-  std::vector<TMeshFace> result = boundaries;
+  std::vector<TMeshFace> result = std::move(boundaries);
   for (std::size_t i = 0; i < faces.size(); ++i) {
-    const TMeshFace& boundary = boundaries[std::size_t(faces[i])];
+    const TMeshFace boundary = std::move(result[std::size_t(faces[i])]);
     const Cut& cut = cuts[i];
     const double w = boundary.width, h = boundary.height;
     // Vertices moved onto within the face's tolerance can be twice that off the cut lines.

@@ -12,7 +12,7 @@ namespace {
 
 // The T-spline `spline --kind tspline` makes of a real mesh, fitted with `options`.
 spline::SplineModel tsplineOf(const structure::TriMesh& mesh,
-                              const spline::ControlPointFitOptions& options,
+                              const spline::SurfaceFitOptions& options,
                               spline::ControlPointFit& fit) {
   structure::FlattenOptions flattenOptions;
   flattenOptions.quantize = true;
@@ -54,7 +54,7 @@ TEST_CASE("build_spline: the faired T-spline of cactus.off has no folds", "[spli
 
 TEST_CASE("build_spline: a fixed smoothing weight and no correction are kept", "[spline]") {
   const structure::TriMesh mesh = test::realMesh("cactus.off");
-  spline::ControlPointFitOptions options;
+  spline::SurfaceFitOptions options;
   options.smoothing = 1e-3;
   options.correctionRounds = 0;
   spline::ControlPointFit fit;

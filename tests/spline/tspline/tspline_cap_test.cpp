@@ -191,7 +191,8 @@ TEST_CASE("tspline caps: valence 4 is the uniform B-spline", "[spline]") {
   const TSplineSpace space(star.mesh);  // no cone: ordinary B-splines everywhere
   CHECK(space.capFaces().empty());
   spline::TSplineCapRegion region;
-  REQUIRE(spline::findCapRegion(star.mesh, 0, region).empty());
+  spline::FaceDeveloper developer(star.mesh);
+  REQUIRE(spline::findCapRegion(star.mesh, 0, region, developer).empty());
   REQUIRE(region.valence == 4);
   const Eigen::MatrixXd control = starControl(star, space, 0.3);
   std::vector<spline::TSplineBasisValue> basis;
@@ -254,7 +255,8 @@ TEST_CASE("tspline caps: a T-junction in a cone's cap region is refused", "[spli
   for (const auto& face : cut.faces)
     faces.push_back({0.0, 0.0, face.vertices, face.positions, {}, {}});
   const spline::TMesh withJunction = spline::buildTMesh(cut.numVertices + 1, faces);
-  CHECK_FALSE(spline::findCapRegion(withJunction, 0, region).empty());
+  spline::FaceDeveloper junctionDeveloper(withJunction);
+  CHECK_FALSE(spline::findCapRegion(withJunction, 0, region, junctionDeveloper).empty());
   CHECK_THROWS_AS(TSplineSpace(withJunction), structure::SolverError);
   CHECK_THROWS_WITH(TSplineSpace(withJunction), Catch::Contains("extraordinary vertex 0"));
 }
