@@ -502,7 +502,7 @@ TEST_CASE("tspline_refine: faces split into four at once as one after another", 
   double area = 0.0;
   for (const auto& r : layout.rectangles()) area += r.width() * r.height();
   spline::LayoutTMeshOptions options;
-  options.cellSize = std::sqrt(area / 400.0);
+  options.cellSize = std::sqrt(area / 200.0);
   const TMesh start = spline::layoutTMesh(layout, options).mesh;
   std::mt19937 rng(7);
   for (const double share : {0.05, 0.3, 1.0}) {
