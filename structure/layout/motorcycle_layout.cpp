@@ -55,6 +55,10 @@ struct Piece {
   int trace = -1;
   Eigen::Vector2d a, b;
   double s0 = 0.0, s1 = 0.0;
+  // A piece along a mesh edge is stored in both faces of the edge: its copy in face twinFace at
+  // twinIndex, in coordinates toTwin.apply(·).
+  int twinFace = -1, twinIndex = -1;
+  Motion toTwin;
 };
 
 struct Trace {
@@ -74,6 +78,21 @@ struct Trace {
   // back of the node's owner when that met a trace head-on (0).
   int endSlot = 0;
   int endNode = -1;
+  // Stopped at this mesh vertex, waiting for the traces that reach it at the same arc length.
+  int atVertex = -1;
+  double back = 0.0;  // its way back there, as an angle around the vertex
+};
+
+// A mesh vertex that traces reach: where the first trace went through it (going on at angle
+// `forward` around the vertex), with the first trace that ended on it there; or the trace whose
+// end node it is when the first traces to arrive all stopped.
+struct VertexVisit {
+  std::vector<int> pending;
+  int passing = -1;
+  double passArc = 0.0, forward = 0.0;
+  int ender = -1;
+  int owner = -1;
+  double ownerBack = 0.0;
 };
 
 // The first crossing of the ray p + t d (0 < t <= limit) with segment [a, b]: t and the
@@ -111,6 +130,7 @@ struct MotorcycleLayout::Data {
     double t = -1.0;
     int edge = -1;
     Eigen::Vector2d point = Eigen::Vector2d::Zero();
+    int corner = -1;  // the corner the exit was moved off, if any
   };
   Exit exitOf(int f, const Eigen::Vector2d& p, const Eigen::Vector2d& d) const {
     const FaceGeometry& face = faces[std::size_t(f)];
@@ -122,6 +142,8 @@ struct MotorcycleLayout::Data {
       if (t >= 0.0 && (exit.edge < 0 || t < exit.t)) exit.t = t, exit.edge = i, along = w;
     }
     if (exit.edge >= 0) {
+      if (along < 1e-7) exit.corner = exit.edge;
+      if (along > 1.0 - 1e-7) exit.corner = (exit.edge + 1) % 3;
       along = std::clamp(along, 1e-7, 1.0 - 1e-7);
       const Eigen::Vector2d& a = face.corner[std::size_t(exit.edge)];
       exit.point = a + along * (face.corner[std::size_t((exit.edge + 1) % 3)] - a);
@@ -185,15 +207,67 @@ struct MotorcycleLayout::Data {
     return best;
   }
 
+  // A trace from vertex to vertex, or leaving a vertex along an edge (turned 1e-9 off it), runs
+  // along that edge: within kOnEdge of the surface's size, it is stored in the faces on both
+  // sides, so that traces and walks from either side meet it before they step across the edge.
+  static constexpr double kOnEdge = 1e-8;
+  void addPiece(int f, int trace, const Eigen::Vector2d& a, const Eigen::Vector2d& b, double s0,
+                double s1) {
+    Piece piece;
+    piece.trace = trace;
+    piece.a = a;
+    piece.b = b;
+    piece.s0 = s0;
+    piece.s1 = s1;
+    std::vector<Piece>& list = pieces[std::size_t(f)];
+    const FaceGeometry& face = faces[std::size_t(f)];
+    const double tolerance = kOnEdge * scale;
+    for (int i = 0; i < 3 && (b - a).norm() > tolerance; ++i) {
+      const Eigen::Vector2d& from = face.corner[std::size_t(i)];
+      const Eigen::Vector2d side = (face.corner[std::size_t((i + 1) % 3)] - from).normalized();
+      if (std::abs(cross(side, a - from)) > tolerance ||
+          std::abs(cross(side, b - from)) > tolerance)
+        continue;
+      const int g = face.neighbour[std::size_t(i)];
+      if (g == f) continue;
+      const Motion& m = face.across[std::size_t(i)];
+      Piece copy = piece;
+      copy.a = m.apply(a);
+      copy.b = m.apply(b);
+      copy.twinFace = f;
+      copy.twinIndex = int(list.size());
+      copy.toTwin = m.inverse();
+      piece.twinFace = g;
+      piece.twinIndex = int(pieces[std::size_t(g)].size());
+      piece.toTwin = m;
+      pieces[std::size_t(g)].push_back(copy);
+      break;
+    }
+    list.push_back(piece);
+  }
+
+  // Piece k of face f now ends at b, arc length s1; so does its copy across an edge.
+  void trimPiece(int f, int k, const Eigen::Vector2d& b, double s1) {
+    Piece& piece = pieces[std::size_t(f)][std::size_t(k)];
+    piece.b = b;
+    piece.s1 = s1;
+    if (piece.twinFace < 0) return;
+    Piece& twin = pieces[std::size_t(piece.twinFace)][std::size_t(piece.twinIndex)];
+    twin.b = piece.toTwin.apply(b);
+    twin.s1 = s1;
+  }
+
   // The first trace piece met along p + t d, 0 < t <= limit, in face f. A growing trace `self`
-  // (-1 for a walk) passes the end of a trace that ended on it there.
+  // (-1 for a walk) passes the end of a trace that ended on it there. Pieces up to kOnEdge past
+  // the exit count: a piece along the exit edge is met in this face, not missed in both.
   Hit firstPiece(int f, const Eigen::Vector2d& p, const Eigen::Vector2d& d, double limit,
                  int self = -1) const {
     Hit hit;
     for (std::size_t k = 0; k < pieces[std::size_t(f)].size(); ++k) {
       const Piece& piece = pieces[std::size_t(f)][k];
       // Traces within 1e-6 rad of parallel do not cross: they run along each other (headOn).
-      const auto [t, w] = rayHit(p, d, limit, piece.a, piece.b, 1e-10 * scale, 1e-6);
+      const auto [t, w] =
+          rayHit(p, d, limit + kOnEdge * scale, piece.a, piece.b, 1e-10 * scale, 1e-6);
       if (t < 0.0 || (hit.t >= 0.0 && t >= hit.t)) continue;
       const Trace& other = traces[std::size_t(piece.trace)];
       if (self >= 0 && other.endTrace == self && piece.s1 == other.length &&
@@ -340,6 +414,45 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
       angleSum[std::size_t(face.vertex[std::size_t(k)])] += std::atan2(cross(a, b), a.dot(b));
     }
   }
+  // Around a vertex counter-clockwise from its first outgoing halfedge: the corners of its faces,
+  // where each corner's first side points, its angle, and the angles of the corners before it.
+  struct Sector {
+    int face, corner;
+    double start, angle, before;
+  };
+  const auto sectorsAround = [&](int vertex) {
+    std::vector<Sector> sectors;
+    double around = 0.0;
+    const auto first = OpenMesh::make_smart(mesh.vertex_handle(unsigned(vertex)), mesh).out();
+    auto h = first;
+    do {
+      const int f = h.face().idx();
+      const FaceGeometry& face = d.faces[std::size_t(f)];
+      const int k = localEdge[std::size_t(h.idx())];  // h runs from corner k (v) to corner k + 1
+      const Eigen::Vector2d a = face.corner[std::size_t((k + 1) % 3)] - face.corner[std::size_t(k)];
+      const Eigen::Vector2d b = face.corner[std::size_t((k + 2) % 3)] - face.corner[std::size_t(k)];
+      const double cornerAngle = std::atan2(cross(a, b), a.dot(b));
+      sectors.push_back({f, k, std::atan2(a.y(), a.x()), cornerAngle, around});
+      around += cornerAngle;
+      h = h.prev().opp();
+    } while (h != first);
+    return sectors;
+  };
+  // A trace leaving the vertex at angle `at` around it starts from the sector holding that angle.
+  // Counting along the summed angle gives one trace per direction even when the direction runs
+  // along a mesh edge; such a trace is turned 1e-9 into the corner, so that it never runs along an
+  // edge.
+  const auto leave = [&](const std::vector<Sector>& sectors, double at, Trace& trace) {
+    std::size_t s = 0;
+    while (s + 1 < sectors.size() && sectors[s + 1].before <= at) ++s;
+    const Sector& sector = sectors[s];
+    const double offset = std::clamp(at - sector.before, 1e-9, sector.angle - 1e-9);
+    trace.face = sector.face;
+    trace.tip = d.faces[std::size_t(sector.face)].corner[std::size_t(sector.corner)];
+    trace.direction =
+        Eigen::Vector2d(std::cos(sector.start + offset), std::sin(sector.start + offset));
+  };
+  std::vector<int> vertexNode(mesh.n_vertices(), -1);
   for (const auto v : mesh.vertices()) {
     const double angle = angleSum[std::size_t(v.idx())];
     if (std::abs(angle - 2.0 * kPi) <= options.coneTolerance) continue;
@@ -354,46 +467,18 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
                         " is a cone of angle pi/2 (valence one in a quad grid); place cones of "
                         "angle at least pi there");
     const int node = int(d.nodes.size());
+    vertexNode[std::size_t(v.idx())] = node;
     d.nodes.push_back({v.idx(), quarterTurns});
-    // Around v counter-clockwise, the corners' angles summed: trace j leaves at the first axis
-    // direction past the first edge, plus j quarter turns. Counting along the summed angle gives
-    // exactly one trace per quarter turn even when an axis runs along a mesh edge; such a trace is
-    // turned 1e-9 into the corner, so that it never runs along an edge.
-    struct Sector {
-      int face, corner;
-      double start, angle, before;
-    };
-    std::vector<Sector> sectors;
-    double around = 0.0;
-    const auto first = v.out();
-    auto h = first;
-    do {
-      const int f = h.face().idx();
-      const FaceGeometry& face = d.faces[std::size_t(f)];
-      const int k = localEdge[std::size_t(h.idx())];  // h runs from corner k (v) to corner k + 1
-      const Eigen::Vector2d a = face.corner[std::size_t((k + 1) % 3)] - face.corner[std::size_t(k)];
-      const Eigen::Vector2d b = face.corner[std::size_t((k + 2) % 3)] - face.corner[std::size_t(k)];
-      const double cornerAngle = std::atan2(cross(a, b), a.dot(b));
-      sectors.push_back({f, k, std::atan2(a.y(), a.x()), cornerAngle, around});
-      around += cornerAngle;
-      h = h.prev().opp();
-    } while (h != first);
+    // Trace j leaves at the first axis direction past the first edge, plus j quarter turns.
+    const std::vector<Sector> sectors = sectorsAround(v.idx());
     const Sector& firstSector = sectors.front();
     const double firstAxis = std::fmod(
         wrapTurn(d.faces[std::size_t(firstSector.face)].frame - firstSector.start), kQuarter);
-    std::size_t s = 0;
     for (int j = 0; j < quarterTurns; ++j) {
-      const double at = firstAxis + j * kQuarter;
-      while (s + 1 < sectors.size() && sectors[s + 1].before <= at) ++s;
-      const Sector& sector = sectors[s];
-      const double offset = std::clamp(at - sector.before, 1e-9, sector.angle - 1e-9);
       Trace trace;
       trace.coneNode = node;
       trace.coneIndex = j;
-      trace.face = sector.face;
-      trace.tip = d.faces[std::size_t(sector.face)].corner[std::size_t(sector.corner)];
-      trace.direction =
-          Eigen::Vector2d(std::cos(sector.start + offset), std::sin(sector.start + offset));
+      leave(sectors, firstAxis + j * kQuarter, trace);
       d.traces.push_back(trace);
     }
   }
@@ -406,16 +491,107 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
   using Entry = std::pair<double, int>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
   for (std::size_t t = 0; t < d.traces.size(); ++t) queue.emplace(0.0, int(t));
+  // Traces through a mesh vertex pass it exactly, and what happens there is decided once every
+  // trace that reaches it at the same arc length has arrived: traces aimed exactly at a vertex
+  // (symmetric surfaces: an octahedron's four diagonals meet at the centre of its faces) meet
+  // there instead of passing each other a rounding error apart.
+  std::vector<VertexVisit> visits(mesh.n_vertices());
+  const double sameTime = 1e-6 * d.scale;
+  const auto resolveVertex = [&](int t) {
+    Trace& trace = d.traces[std::size_t(t)];
+    const int v = trace.atVertex;
+    VertexVisit& visit = visits[std::size_t(v)];
+    const double total = angleSum[std::size_t(v)];
+    // Quarter turns counter-clockwise from direction `from` to direction `to` around v.
+    const auto turns = [&](double from, double to) {
+      const long q = std::lround(4.0 * (to - from) / total) % 4;
+      return int(q < 0 ? q + 4 : q);
+    };
+    std::vector<int> group, later;
+    for (int m : visit.pending) {
+      const Trace& other = d.traces[std::size_t(m)];
+      if (!other.running || other.atVertex != v) continue;
+      (std::abs(other.length - trace.length) <= sameTime ? group : later).push_back(m);
+    }
+    visit.pending = later;
+    for (int m : group) d.traces[std::size_t(m)].atVertex = -1;
+    // Ending on the trace through v: the first one to do so ends on it, the others at its node.
+    const auto endOnPassing = [&](int m) {
+      Trace& arriving = d.traces[std::size_t(m)];
+      arriving.endSlot = turns(visit.forward, arriving.back);
+      if (arriving.endSlot % 2 == 0)
+        throw SolverError("motorcycle layout: trace " + std::to_string(m) + " reaches vertex " +
+                          std::to_string(v) + " along the trace through it");
+      if (visit.ender < 0) {
+        arriving.endTrace = visit.passing;
+        arriving.endArc = visit.passArc;
+        visit.ender = m;
+      } else {
+        arriving.joinTrace = visit.ender;
+      }
+      arriving.running = false;
+    };
+    const auto joinOwner = [&](int m) {
+      Trace& arriving = d.traces[std::size_t(m)];
+      arriving.joinTrace = visit.owner;
+      arriving.endSlot = turns(visit.ownerBack, arriving.back);
+      arriving.running = false;
+    };
+    if (visit.passing >= 0) {
+      for (int m : group) endOnPassing(m);
+      return;
+    }
+    if (visit.owner >= 0) {
+      for (int m : group) joinOwner(m);
+      return;
+    }
+    // Alone, or with one trace at a right angle: it goes on, and the other ends on it. Otherwise
+    // all stop there (a node where no angle exceeds a half turn).
+    bool goesOn = true;
+    for (int m : group) {
+      const int turn = turns(trace.back, d.traces[std::size_t(m)].back);
+      goesOn &= m == t || (group.size() == 2 && turn % 2 == 1);
+    }
+    if (goesOn) {
+      visit.passing = t;
+      visit.passArc = trace.length;
+      visit.forward = std::fmod(trace.back + 0.5 * total, total);
+      leave(sectorsAround(v), visit.forward, trace);
+      queue.emplace(trace.length, t);
+      for (int m : group)
+        if (m != t) endOnPassing(m);
+      return;
+    }
+    visit.owner = t;
+    visit.ownerBack = trace.back;
+    trace.running = false;
+    trace.endSlot = 0;
+    for (int m : group)
+      if (m != t) joinOwner(m);
+  };
   while (!queue.empty()) {
     const int t = queue.top().second;
     queue.pop();
     Trace& trace = d.traces[std::size_t(t)];
     if (!trace.running) continue;  // stopped head-on by another trace
+    if (trace.atVertex >= 0) {
+      resolveVertex(t);
+      continue;
+    }
     const Data::Exit exit = d.exitOf(trace.face, trace.tip, trace.direction);
     if (exit.edge < 0)
       throw SolverError("motorcycle layout: trace " + std::to_string(t) + " lost its way in face " +
                         std::to_string(trace.face));
-    const Data::Hit hit = d.firstPiece(trace.face, trace.tip, trace.direction, exit.t, t);
+    // Aimed at a vertex within rounding: it goes there exactly, unless the vertex is a cone (whose
+    // own trace comes back along the same line and meets this one head-on).
+    const int corner = exit.corner;
+    const int arrival =
+        corner >= 0 && vertexNode[std::size_t(
+                           d.faces[std::size_t(trace.face)].vertex[std::size_t(corner)])] < 0
+            ? d.faces[std::size_t(trace.face)].vertex[std::size_t(corner)]
+            : -1;
+    Data::Hit hit = d.firstPiece(trace.face, trace.tip, trace.direction, exit.t, t);
+    if (arrival >= 0 && hit.t >= exit.t - sameTime) hit = {};  // decided at the vertex
     // Head-on: where both arc lengths agree when the other still runs (they started together; its
     // piece is trimmed to that point), at its end when it has stopped; unless an ordinary crossing
     // comes clearly first.
@@ -434,14 +610,13 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
         const Eigen::Vector2d end = trace.tip + meet * trace.direction;
         if (partner.running) {
           // It stops at the meeting point too; its tip's pending step is dropped.
-          other.b = facing.toFace.inverse().apply(end);
-          other.s1 = other.s0 + (other.b - other.a).norm();
+          const Eigen::Vector2d otherEnd = facing.toFace.inverse().apply(end);
+          d.trimPiece(facing.face, facing.piece, otherEnd, other.s0 + (otherEnd - other.a).norm());
           partner.length = other.s1;
           partner.running = false;
           partner.endSlot = 0;
         }
-        d.pieces[std::size_t(trace.face)].push_back(
-            {t, trace.tip, end, trace.length, trace.length + meet});
+        d.addPiece(trace.face, t, trace.tip, end, trace.length, trace.length + meet);
         trace.length += meet;
         trace.joinTrace = partner.joinTrace >= 0 ? partner.joinTrace : partnerIndex;
         trace.endSlot = (partner.endSlot + 2) % 4;
@@ -449,8 +624,10 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
         continue;
       }
     }
-    const Eigen::Vector2d end =
-        hit.t >= 0.0 ? Eigen::Vector2d(trace.tip + hit.t * trace.direction) : exit.point;
+    const Eigen::Vector2d end = hit.t >= 0.0 ? Eigen::Vector2d(trace.tip + hit.t * trace.direction)
+                                : arrival >= 0
+                                    ? d.faces[std::size_t(trace.face)].corner[std::size_t(corner)]
+                                    : exit.point;
     if (hit.t >= 0.0) {
       Piece& other = d.pieces[std::size_t(trace.face)][std::size_t(hit.piece)];
       Trace& target = d.traces[std::size_t(other.trace)];
@@ -463,8 +640,7 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
         target.endTrace = t;
         target.endArc = trace.length + hit.t;
         target.endSlot = cross(trace.direction, along) < 0.0 ? 1 : 3;
-        other.b = end;
-        other.s1 = arc;
+        d.trimPiece(trace.face, hit.piece, end, arc);
         target.length = arc;
         target.running = false;
         queue.emplace(trace.length, t);
@@ -476,8 +652,7 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
       trace.running = false;
     }
     const double step = (end - trace.tip).norm();
-    d.pieces[std::size_t(trace.face)].push_back(
-        {t, trace.tip, end, trace.length, trace.length + step});
+    d.addPiece(trace.face, t, trace.tip, end, trace.length, trace.length + step);
     trace.length += step;
     if (!trace.running) continue;
     if (trace.length > maxLength)
@@ -485,6 +660,21 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
                         std::to_string(d.nodes[std::size_t(trace.coneNode)].vertex) +
                         " meets no other trace within " + std::to_string(options.maxTraceLength) +
                         " times the surface's size");
+    if (arrival >= 0) {
+      // Its way back as an angle around the vertex: from the corner's first side.
+      const FaceGeometry& face = d.faces[std::size_t(trace.face)];
+      const Eigen::Vector2d side =
+          face.corner[std::size_t((corner + 1) % 3)] - face.corner[std::size_t(corner)];
+      for (const Sector& sector : sectorsAround(arrival))
+        if (sector.face == trace.face && sector.corner == corner)
+          trace.back = sector.before + std::clamp(std::atan2(cross(side, -trace.direction),
+                                                             side.dot(-trace.direction)),
+                                                  0.0, sector.angle);
+      trace.atVertex = arrival;
+      visits[std::size_t(arrival)].pending.push_back(t);
+      queue.emplace(trace.length, t);
+      continue;
+    }
     const Motion& m = d.faces[std::size_t(trace.face)].across[std::size_t(exit.edge)];
     trace.tip = m.apply(end);
     trace.direction = (m.rotation * trace.direction).normalized();

@@ -174,6 +174,57 @@ TEST_CASE("motorcycle_layout: traces aimed exactly at cones on coarse polyhedra"
   }
 }
 
+TEST_CASE("motorcycle_layout: four traces aimed at one vertex meet there", "[structure]") {
+  // The octahedron's flat metric is a pillowcase: a square on each side, four cones of angle pi
+  // at its corners, a vertex at the centre of each square. Every cone sends its two traces along
+  // the diagonals, and the four traces of a square reach its centre together. Decided by which
+  // one rounding lets through first, the layout changed with the BLAS kernel; met exactly, it is
+  // four squares, two corners at cones and two at the centres, whose four traces all end there.
+  const test::FlatMetric flat = test::seamlessFlatMetric(test::realMesh("octahedron.off"));
+  const MotorcycleLayout layout(flat.surface, flat.lengths);
+  checkTiling(flat, layout, 1e-10);
+  REQUIRE(layout.rectangles().size() == 4);
+  const double side = std::sqrt(flatArea(flat) / 4.0);
+  for (const auto& r : layout.rectangles()) {
+    CHECK(r.width() == Approx(side).epsilon(1e-9));
+    CHECK(r.height() == Approx(side).epsilon(1e-9));
+  }
+  const std::vector<int> degree = nodeDegrees(layout);
+  REQUIRE(layout.nodes().size() == 6);
+  for (std::size_t n = 0; n < degree.size(); ++n)
+    CHECK(degree[n] == (layout.nodes()[n].vertex >= 0 ? 2 : 4));
+  // Every trace runs along mesh edges, from vertex to vertex: each face lies in one rectangle,
+  // whichever side its walks start from.
+  for (int face = 0; face < int(flat.surface.n_faces()); ++face)
+    for (int i = 1; i < 9; i += 2)
+      for (int j = 1; i + j < 10; j += 2) {
+        const double a = 0.1 * i, b = 0.1 * j;
+        CHECK(checkLocateIsometry(flat, layout, face, Eigen::Vector3d(1 - a - b, a, b)));
+      }
+}
+
+TEST_CASE("motorcycle_layout: a trace along a mesh edge is met from both sides", "[structure]") {
+  // Boxes of twelve triangles: traces run from corner to corner along the edges, and others cross
+  // those edges from either side. Stored in one face only, such a trace let the crossings from the
+  // other face through (a 12-corner face of the trace graph).
+  for (const char* name : {"cube_quad.off", "beam.off"}) {
+    INFO(name);
+    const test::FlatMetric flat = test::seamlessFlatMetric(test::realMesh(name));
+    const MotorcycleLayout layout(flat.surface, flat.lengths);
+    checkTiling(flat, layout, 1e-7);
+    int sameRectangle = 0, pairs = 0;
+    for (int face = 0; face < int(flat.surface.n_faces()); ++face)
+      for (int i = 1; i < 9; i += 2)
+        for (int j = 1; i + j < 10; j += 2) {
+          const double a = 0.1 * i, b = 0.1 * j;
+          sameRectangle +=
+              checkLocateIsometry(flat, layout, face, Eigen::Vector3d(1 - a - b, a, b));
+          ++pairs;
+        }
+    CHECK(sameRectangle > pairs * 3 / 4);
+  }
+}
+
 TEST_CASE(
     "motorcycle_layout: a trace that crossed a face in one step stops where another got "
     "first",
