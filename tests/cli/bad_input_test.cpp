@@ -62,10 +62,6 @@ std::string lowercase(std::string text) {
   return text;
 }
 
-std::string firstLine(const std::string& text) {
-  return text.substr(0, text.find('\n'));
-}
-
 }  // namespace
 
 TEST_CASE("bad_input: every case exits 2 with a clear message and writes nothing", "[cli]") {
@@ -79,7 +75,7 @@ TEST_CASE("bad_input: every case exits 2 with a clear message and writes nothing
       auto info = runCommand(cliPath() + " info " + input.string());
       INFO("stderr: " << info.err);
       CHECK(info.exitCode == 2);
-      std::string message = lowercase(firstLine(info.err));
+      std::string message = lowercase(mspline::test::firstLine(info.err));
       CHECK(message.find(lowercase(bad.expectedInMessage)) != std::string::npos);
       CHECK(message.find(bad.fileName) != std::string::npos);
 
@@ -109,18 +105,18 @@ TEST_CASE("bad_input: missing file, directory, device and FIFO instead of a file
   std::string dir = mspline::test::scratchDirectory("bad_input_missing");
   auto missing = runCommand(cliPath() + " info " + dir + "/nowhere.off");
   CHECK(missing.exitCode == 2);
-  CHECK(firstLine(missing.err).find("nowhere.off") != std::string::npos);
+  CHECK(mspline::test::firstLine(missing.err).find("nowhere.off") != std::string::npos);
 
   fs::create_directories(fs::path(dir) / "folder.off");
   auto folder = runCommand(cliPath() + " info " + dir + "/folder.off");
   CHECK(folder.exitCode == 2);
-  CHECK(firstLine(folder.err).find("folder.off") != std::string::npos);
+  CHECK(mspline::test::firstLine(folder.err).find("folder.off") != std::string::npos);
 
   // Devices and FIFOs would never end or block on open: refused at once.
   fs::create_symlink("/dev/zero", fs::path(dir) / "zero.off");
   auto device = runCommand("timeout 20 " + cliPath() + " info " + dir + "/zero.off");
   CHECK(device.exitCode == 2);
-  CHECK(firstLine(device.err).find("not a regular file") != std::string::npos);
+  CHECK(mspline::test::firstLine(device.err).find("not a regular file") != std::string::npos);
   REQUIRE(runCommand("mkfifo " + dir + "/fifo.off").exitCode == 0);
   auto fifo = runCommand("timeout 20 " + cliPath() + " info " + dir + "/fifo.off");
   CHECK(fifo.exitCode == 2);
@@ -145,12 +141,12 @@ TEST_CASE("bad_input: a missing output directory or unknown output format fails 
   auto result =
       runCommand(cliPath() + " repair " + input.string() + " -o " + dir + "/no/such/dir/out.off");
   CHECK(result.exitCode == 2);
-  CHECK(firstLine(result.err).find("out.off") != std::string::npos);
+  CHECK(mspline::test::firstLine(result.err).find("out.off") != std::string::npos);
 
   for (const char* command : {" repair ", " cut "}) {
     auto unknown = runCommand(cliPath() + command + input.string() + " -o " + dir + "/out.xyz");
     CHECK(unknown.exitCode == 2);
-    CHECK(firstLine(unknown.err).find("out.xyz") != std::string::npos);
+    CHECK(mspline::test::firstLine(unknown.err).find("out.xyz") != std::string::npos);
     CHECK_FALSE(fs::exists(dir + "/out.xyz"));
   }
 }

@@ -20,10 +20,6 @@ namespace {
 const char* const kNeedle =
     "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0.2 0.2 100\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n";
 
-std::string firstLine(const std::string& text) {
-  return text.substr(0, text.find('\n'));
-}
-
 std::string quoted(const fs::path& path) {
   return "'" + path.string() + "'";
 }
@@ -55,14 +51,15 @@ nlohmann::json checkFailure(const std::string& command, const std::string& argum
   const CommandResult text = runCommand(line);
   INFO(line << "\nstderr: " << text.err);
   CHECK(text.exitCode == exitCode);
-  CHECK_THAT(firstLine(text.err),
+  CHECK_THAT(mspline::test::firstLine(text.err),
              Catch::StartsWith("mspline " + command + ": error: ") && Catch::Contains(named));
   CHECK(filesIn(dir) == before);
 
   const CommandResult json = runCommand(line + " --json");
   INFO("--json stderr: " << json.err);
   CHECK(json.exitCode == exitCode);
-  CHECK_THAT(firstLine(json.err), Catch::StartsWith("mspline " + command + ": error: "));
+  CHECK_THAT(mspline::test::firstLine(json.err),
+             Catch::StartsWith("mspline " + command + ": error: "));
   const nlohmann::json object = onlyObject(json);
   REQUIRE(object.contains("error"));
   CHECK(object["error"]["kind"].is_string());
@@ -126,7 +123,7 @@ TEST_CASE("error_policy: bytes that are not UTF-8 keep the JSON valid", "[cli]")
   const nlohmann::json report = checkFailure("info", quoted(path), 2, "bad", dir);
   // U+FFFD in JSON, the bytes as they are in text.
   CHECK_THAT(report["error"]["message"].get<std::string>(), Catch::Contains("bad\xef\xbf\xbd.off"));
-  CHECK_THAT(firstLine(runCommand(cliPath() + " info " + quoted(path)).err),
+  CHECK_THAT(mspline::test::firstLine(runCommand(cliPath() + " info " + quoted(path)).err),
              Catch::Contains("bad\xe9.off"));
 
   // A PLY element named by the byte 0xff, quoted in the error message.
@@ -141,7 +138,7 @@ TEST_CASE("error_policy: bytes that are not UTF-8 keep the JSON valid", "[cli]")
              Catch::Contains("element.ply"));
   // Text mode shows the bytes as they are.
   const CommandResult text = runCommand(cliPath() + " info " + quoted(ply));
-  CHECK_THAT(firstLine(text.err), Catch::Contains("2 \xff elements"));
+  CHECK_THAT(mspline::test::firstLine(text.err), Catch::Contains("2 \xff elements"));
 }
 
 TEST_CASE("error_policy: usage errors under --json print one JSON object", "[cli]") {

@@ -40,7 +40,7 @@ nlohmann::json checkModel(const std::string& name, const std::string& model) {
 
 }  // namespace
 
-TEST_CASE("spline: knot1 without cones, checked in every chart", "[cli]") {
+TEST_CASE("spline: knot1 without cones, checked in every chart", "[cli][slow]") {
   const std::string dir = mspline::test::scratchDirectory("cli_spline_knot");
   const auto built =
       runJson("spline -q " + realMeshPath("knot1.off") + " --cones none -o " + dir + "/k.msp");
@@ -54,7 +54,7 @@ TEST_CASE("spline: knot1 without cones, checked in every chart", "[cli]") {
   CHECK(check["partition_of_unity_error"].get<double>() <= 1e-12);
 }
 
-TEST_CASE("spline: bunny00 and eight with quantized cones, checked in every chart", "[cli]") {
+TEST_CASE("spline: bunny00 and eight with quantized cones, checked in every chart", "[cli][slow]") {
   const std::string dir = mspline::test::scratchDirectory("cli_spline_cones");
   for (const std::string name : {"bunny00", "eight"}) {
     const std::string model = dir + "/" + name + ".msp";

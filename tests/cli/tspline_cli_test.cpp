@@ -59,7 +59,8 @@ structure::TopologyReport exportedTopology(const std::string& path, bool valid =
 
 }  // namespace
 
-TEST_CASE("tspline_cli: knot1 built, checked, compared with OpenSubdiv and exported", "[cli]") {
+TEST_CASE("tspline_cli: knot1 built, checked, compared with OpenSubdiv and exported",
+          "[cli][slow]") {
   const std::string dir = mspline::test::scratchDirectory("cli_tspline_knot");
   const std::string model = dir + "/k.msp";
   const auto built = runJson("spline -q " + realMeshPath("knot1.off") +

@@ -14,12 +14,6 @@ using mspline::test::runCommand;
 
 namespace {
 
-std::size_t countOf(const std::string& text, const std::string& word) {
-  std::size_t count = 0;
-  for (auto at = text.find(word); at != std::string::npos; at = text.find(word, at + 1)) ++count;
-  return count;
-}
-
 nlohmann::json voronoi(const std::string& arguments) {
   auto result = runCommand(cliPath() + " voronoi --json -q " + arguments);
   INFO("voronoi " << arguments << "\nstderr: " << result.err);
@@ -42,9 +36,9 @@ TEST_CASE("voronoi: 20 random sites on knot1.off", "[cli]") {
   CHECK(report["replicated_sites"] == 180);
   CHECK(report["max_equidistance_error"].get<double>() <= 1e-12);
   const std::string obj = mspline::test::fileText(out);
-  CHECK(countOf(obj, "\ng cell_") == 20);
-  CHECK(countOf(obj, "\nf ") == 6400);
-  CHECK(countOf(obj, "\nl ") == report["boundary_polylines"].get<std::size_t>());
+  CHECK(mspline::test::countOf(obj, "\ng cell_") == 20);
+  CHECK(mspline::test::countOf(obj, "\nf ") == 6400);
+  CHECK(mspline::test::countOf(obj, "\nl ") == report["boundary_polylines"].get<std::size_t>());
   CHECK(report["boundary_polylines"].get<int>() > 20);
   CHECK(mspline::test::fileText(svg).rfind("<svg", 0) == 0);
   CHECK(mspline::test::fileText(png).rfind("\x89PNG\r\n\x1a\n", 0) == 0);
@@ -69,7 +63,7 @@ TEST_CASE("voronoi: sites from a file", "[cli]") {
   std::ofstream(sites) << "10 0.2 0.3 0.5\n3000 1 0 0\n2000 0.1 0.1 0.8\n";
   auto elk = voronoi(realMeshPath("elk.off") + " --sites " + sites + " -o " + dir + "/elk.obj");
   CHECK(elk["cells"] == 3);
-  CHECK(countOf(mspline::test::fileText(dir + "/elk.obj"), "\nf ") > 3290);
+  CHECK(mspline::test::countOf(mspline::test::fileText(dir + "/elk.obj"), "\nf ") > 3290);
 }
 
 TEST_CASE("voronoi: bad input exits 2 and says why", "[cli]") {

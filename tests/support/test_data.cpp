@@ -45,6 +45,16 @@ std::string scratchDirectory(const std::string& testName) {
   return dir.string();
 }
 
+std::string firstLine(const std::string& text) {
+  return text.substr(0, text.find('\n'));
+}
+
+std::size_t countOf(const std::string& text, const std::string& word) {
+  std::size_t count = 0;
+  for (auto at = text.find(word); at != std::string::npos; at = text.find(word, at + 1)) ++count;
+  return count;
+}
+
 std::string fileText(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::ostringstream text;
@@ -103,6 +113,10 @@ const spline::SplineModel& fittedModel(const std::string& meshName, const std::s
       io::readSplineModel(fitModel(meshName, kind, dir + "/model.msp", arguments));
   fs::remove_all(dir);
   return model;
+}
+
+const spline::SplineModel& headModel(const std::string& kind) {
+  return fittedModel("head.off", kind, kSmallFit);
 }
 
 }  // namespace mspline::test

@@ -18,6 +18,12 @@ structure::TriMesh realMesh(const std::string& name);
 /// The whole content of a file ("" when it cannot be read).
 std::string fileText(const std::string& path);
 
+/// The text up to its first line break.
+std::string firstLine(const std::string& text);
+
+/// How many times `word` occurs in `text` (overlapping occurrences too).
+std::size_t countOf(const std::string& text, const std::string& word);
+
 /// The mspline command built with the tests.
 std::string cliPath();
 
@@ -52,5 +58,9 @@ inline const std::string kSmallFit = "--control 300 --max-control 500 --max-refi
 /// sections of a test that use the same small model share one fit.
 const spline::SplineModel& fittedModel(const std::string& meshName, const std::string& kind,
                                        const std::string& arguments);
+
+/// A small model of `kind` (tspline, tribspline, subd) fitted to head.off (kSmallFit), once per
+/// kind and process: 3 holes filled for the fit, 4 cones.
+const spline::SplineModel& headModel(const std::string& kind);
 
 }  // namespace mspline::test

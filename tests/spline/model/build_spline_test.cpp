@@ -29,7 +29,7 @@ spline::SplineModel tsplineOf(const structure::TriMesh& mesh,
 
 }  // namespace
 
-TEST_CASE("build_spline: the faired T-spline of cactus.off has no folds", "[spline]") {
+TEST_CASE("build_spline: the faired T-spline of cactus.off has no folds", "[spline][slow]") {
   // With about one control point per two samples, a fit without fairing folded between them
   // (426 folded triangles, the surface 3% of the diagonal away from the mesh).
   const structure::TriMesh mesh = test::realMesh("cactus.off");

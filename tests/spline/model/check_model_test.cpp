@@ -9,15 +9,6 @@
 
 using namespace mspline;
 
-namespace {
-
-// A small model of `kind` fitted to head.off (3 holes filled, 4 cones).
-const spline::SplineModel& headModel(const std::string& kind) {
-  return test::fittedModel("head.off", kind, test::kSmallFit);
-}
-
-}  // namespace
-
 TEST_CASE("check_model: a fitted triangular B-spline agrees across charts and sums to one",
           "[spline]") {
   // knot1 is a torus: no cones, every sample counts for the raw partition of unity.
@@ -49,7 +40,7 @@ TEST_CASE("check_model: a fitted triangular B-spline agrees across charts and su
 }
 
 TEST_CASE("check_model: near cones the raw partition of unity is not counted", "[spline]") {
-  const spline::SplineModel& model = headModel("tribspline");
+  const spline::SplineModel& model = test::headModel("tribspline");
   spline::CheckOptions options;
   options.samples = 2000;
   options.knotSamples = 0;
@@ -64,7 +55,7 @@ TEST_CASE("check_model: near cones the raw partition of unity is not counted", "
 
 TEST_CASE("check_model: a fitted T-spline agrees across faces, with caps at its cones",
           "[spline]") {
-  const spline::SplineModel& model = headModel("tspline");
+  const spline::SplineModel& model = test::headModel("tspline");
   spline::CheckOptions options;
   options.samples = 2000;
   const spline::CheckResult result = spline::checkModel(model, "head", options);
@@ -79,12 +70,12 @@ TEST_CASE("check_model: a fitted T-spline agrees across faces, with caps at its 
 }
 
 TEST_CASE("check_model: subdivision models and wrong control points are refused", "[spline]") {
-  spline::SplineModel model = headModel("tribspline");
+  spline::SplineModel model = test::headModel("tribspline");
   model.controlPoints.conservativeResize(model.controlPoints.rows() - 1, 3);
   CHECK_THROWS_AS(spline::checkModel(model, "m.msp"), structure::InputError);
   CHECK_THROWS_WITH(spline::checkModel(model, "m.msp"),
                     Catch::StartsWith("m.msp: ") && Catch::Contains("basis functions"));
-  model = headModel("tspline");
+  model = test::headModel("tspline");
   model.kind = spline::SplineKind::Subdivision;
   CHECK_THROWS_WITH(spline::checkModel(model, "m.msp"),
                     Catch::StartsWith("m.msp: ") && Catch::Contains("subdivision"));

@@ -17,11 +17,6 @@ using namespace mspline;
 
 namespace {
 
-// A small triangular B-spline fitted to head.off, whose 3 holes were filled for the fit.
-const spline::SplineModel& headModel() {
-  return test::fittedModel("head.off", "tribspline", test::kSmallFit);
-}
-
 double triangleArea(const structure::PolygonSoup& soup, std::size_t f) {
   const auto at = [&](int k) {
     const auto& p = soup.positions[std::size_t(soup.faces[f][std::size_t(k)])];
@@ -34,7 +29,7 @@ double triangleArea(const structure::PolygonSoup& soup, std::size_t f) {
 
 TEST_CASE("export_surface: trimming removes the faces over the filled holes of a head.off fit",
           "[spline]") {
-  const spline::SplineModel& model = headModel();
+  const spline::SplineModel& model = test::headModel("tribspline");
   REQUIRE(std::count(model.surfaceFaceFilled.begin(), model.surfaceFaceFilled.end(), char(1)) > 0);
   spline::ExportOptions options;
   options.resolution = 4;
@@ -119,8 +114,8 @@ TEST_CASE("export_surface: a fill lying on its scan is told apart by the way it 
   double keptUp = 0.0, keptDown = 0.0, allUp = 0.0, allDown = 0.0;
   facing(trimmed.surface.mesh, keptUp, keptDown);
   facing(whole.surface.mesh, allUp, allDown);
-  INFO("kept: " << keptUp << " up, " << keptDown << " down; whole: " << allUp << " up, "
-                << allDown << " down");
+  INFO("kept: " << keptUp << " up, " << keptDown << " down; whole: " << allUp << " up, " << allDown
+                << " down");
   CHECK(keptDown < 0.01 * keptUp);
   // The scan's area: the square [-0.625, 0.625]^2 (the pillow's rim reaches a little beyond).
   CHECK(keptUp == Approx(1.5625).epsilon(0.05));

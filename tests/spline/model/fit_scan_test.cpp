@@ -127,7 +127,7 @@ TEST_CASE("fit_scan: a scan with holes is fitted with fills, measured only on th
 }
 
 TEST_CASE("fit_scan: a polyhedron whose aligned traces miss a crossing, and a lone triangle",
-          "[spline]") {
+          "[spline][slow]") {
   // pyramid.off: the field aligned with face 0 runs traces through the apex, where the tracing
   // missed a crossing; the space is then built on a field turned by a fraction of a quarter turn.
   // triangle.off: one face, closed by its fill, the same.
@@ -143,7 +143,7 @@ TEST_CASE("fit_scan: a polyhedron whose aligned traces miss a crossing, and a lo
 }
 
 TEST_CASE("fit_scan: a T-spline over filled holes is measured without its fills in every round",
-          "[spline]") {
+          "[spline][slow]") {
   // The refinement loop measures each fit as the final report does: without the fills, the
   // surface of head.off is within a loose tolerance both ways and unfolded, so the loop accepts
   // it and the fit reaches the tolerance (measured with the fills, its surface-to-scan RMS was
@@ -206,7 +206,7 @@ TEST_CASE("fit_scan: the smallest budget on a sphere ends, reported over budget"
   CHECK(fit.warnings.front().find("over the budget of 50") != std::string::npos);
 }
 
-TEST_CASE("fit_scan: the same fit at any unit", "[spline]") {
+TEST_CASE("fit_scan: the same fit at any unit", "[spline][slow]") {
   const structure::TriMesh knot = test::realMesh("knot1.off");
   for (const spline::FitKind kind : {spline::FitKind::TriBSpline, spline::FitKind::TSpline}) {
     const spline::FitOptions options = fitOptions(kind, 400, 3e-3, 1, 1);

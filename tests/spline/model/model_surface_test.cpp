@@ -25,13 +25,6 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-// A small model of `kind` (tspline, tribspline, subd) fitted to head.off by `mspline fit`, once per
-// kind: 3 holes filled for the fit, 4 cones (T-spline: holes around them, collapsed edges, and
-// T-junctions from adaptive refinement).
-const spline::SplineModel& headModel(const std::string& kind) {
-  return test::fittedModel("head.off", kind, test::kSmallFit);
-}
-
 // A T-spline on the surface of a cube (8 extraordinary vertices: holes) with random weights.
 spline::SplineModel cubeTSpline() {
   const test::CubeTMesh cube = test::cubeTMesh(5);
@@ -293,7 +286,7 @@ void checkNet(const spline::SplineModel& model) {
 TEST_CASE("model_surface: the samples reproduce the tessellation of every kind", "[spline]") {
   for (const std::string kind : {"tspline", "tribspline", "subd"}) {
     INFO(kind);
-    checkSamples(headModel(kind), 4);
+    checkSamples(test::headModel(kind), 4);
   }
   INFO("cube T-spline");
   checkSamples(cubeTSpline(), 3);
@@ -303,7 +296,7 @@ TEST_CASE("model_surface: the samples reproduce the tessellation of every kind",
 
 TEST_CASE("model_surface: sample points, cones and means of the tessellations", "[spline]") {
   SECTION("triangular B-spline: a mean per cone, of the points around it") {
-    const spline::SplineModel& model = headModel("tribspline");
+    const spline::SplineModel& model = test::headModel("tribspline");
     const spline::ModelSurface surface(model, "head.msp");
     const spline::ModelTessellation t = surface.tessellate(model.controlPoints, 3);
     const long cones = std::count(model.domain.cone.begin(), model.domain.cone.end(), char(1));
@@ -342,7 +335,7 @@ TEST_CASE("model_surface: sample points, cones and means of the tessellations", 
     CHECK(t.samplePoints.size() == t.mesh.positions.size());
   }
   SECTION("subdivision: the limit surface at the extraordinary vertices, no means") {
-    const spline::SplineModel& model = headModel("subd");
+    const spline::SplineModel& model = test::headModel("subd");
     const spline::ModelSurface surface(model, "head.msp");
     const spline::ModelTessellation t = surface.tessellate(model.controlPoints, 2);
     CHECK(t.coneVertices.size() == std::size_t(model.tmesh.numExtraordinary()));
@@ -355,7 +348,7 @@ TEST_CASE("model_surface: sample points, cones and means of the tessellations", 
 TEST_CASE("model_surface: moving a control point changes the vertices of its column", "[spline]") {
   for (const std::string kind : {"tspline", "tribspline", "subd"}) {
     INFO(kind);
-    const spline::SplineModel& model = headModel(kind);
+    const spline::SplineModel& model = test::headModel(kind);
     checkLocalEdit(model, int(model.controlPoints.rows() / 2), 3);
     const int atCone = rowAtCone(model, 3);
     REQUIRE(atCone >= 0);
@@ -366,10 +359,12 @@ TEST_CASE("model_surface: moving a control point changes the vertices of its col
 TEST_CASE("model_surface: control nets of every kind", "[spline]") {
   for (const std::string kind : {"tspline", "tribspline", "subd"}) {
     INFO(kind);
-    checkNet(headModel(kind));
+    checkNet(test::headModel(kind));
   }
   // The fit refined the head's T-spline: T-junctions were compared.
-  CHECK(!spline::ModelSurface(headModel("tspline"), "head.msp").controlNet().tJunctions.empty());
+  CHECK(!spline::ModelSurface(test::headModel("tspline"), "head.msp")
+             .controlNet()
+             .tJunctions.empty());
   INFO("cube T-spline");
   checkNet(cubeTSpline());
   // The line x = 4 stops at (4, 4): one T-junction, a corner of the faces on its three sides.
@@ -388,17 +383,17 @@ TEST_CASE("model_surface: control nets of every kind", "[spline]") {
 TEST_CASE("model_surface: control points or weights that do not fit name the file", "[spline]") {
   for (const std::string kind : {"tspline", "tribspline", "subd"}) {
     INFO(kind);
-    spline::SplineModel model = headModel(kind);
+    spline::SplineModel model = test::headModel(kind);
     model.controlPoints.conservativeResize(model.controlPoints.rows() - 1, 3);
     CHECK_THROWS_AS(spline::ModelSurface(model, "/models/bad.msp"), structure::InputError);
     CHECK_THROWS_WITH(spline::ModelSurface(model, "/models/bad.msp"),
                       Contains("/models/bad.msp") && Contains("control points"));
   }
-  spline::SplineModel model = headModel("tspline");
+  spline::SplineModel model = test::headModel("tspline");
   model.weights = Eigen::VectorXd::Ones(3);
   CHECK_THROWS_WITH(spline::ModelSurface(model, "/models/w.msp"),
                     Contains("/models/w.msp") && Contains("weights"));
-  const spline::SplineModel& good = headModel("subd");
+  const spline::SplineModel& good = test::headModel("subd");
   const spline::ModelSurface surface(good, "/models/good.msp");
   CHECK_THROWS_WITH(surface.tessellate(good.controlPoints, 0), Contains("/models/good.msp"));
   CHECK_THROWS_AS(surface.tessellate(Eigen::MatrixXd::Zero(3, 3), 2), structure::InputError);

@@ -21,7 +21,7 @@ using spline::TriBSplineSpace;
 
 namespace {
 
-TriBSplineSpace makeSpace(const SplineDomain& domain, int degree) {
+TriBSplineSpace homeChartSpace(const SplineDomain& domain, int degree) {
   return TriBSplineSpace(domain,
                          spline::placeKnotClouds(domain, spline::buildHomeCharts(domain), degree));
 }
@@ -79,7 +79,7 @@ std::map<int, FitBasisTerm> termsAt(const TriBSplineFitSpace& space, const FaceP
 
 TEST_CASE("tri_bspline_fit_space: domain points and fit parameters convert both ways", "[spline]") {
   const SplineDomain domain = domains()[1];
-  const TriBSplineSpace tri = makeSpace(domain, 2);
+  const TriBSplineSpace tri = homeChartSpace(domain, 2);
   std::mt19937 random(3);
   for (int s = 0; s < 50; ++s) {
     const FacePoint p = randomParameter(tri, random, 0.0);
@@ -101,7 +101,7 @@ TEST_CASE("tri_bspline_fit_space: domain points and fit parameters convert both 
 TEST_CASE("tri_bspline_fit_space: a partition of unity with derivatives that match differences",
           "[spline]") {
   for (const SplineDomain& domain : domains()) {
-    const TriBSplineSpace tri = makeSpace(domain, 3);
+    const TriBSplineSpace tri = homeChartSpace(domain, 3);
     const TriBSplineFitSpace space(tri);
     CHECK(space.numBasis() == tri.numBasis());
     std::mt19937 random(5);
@@ -189,7 +189,7 @@ TEST_CASE("tri_bspline_fit_space: a partition of unity with derivatives that mat
 
 TEST_CASE("tri_bspline_fit_space: walks across sides are reversible and continuous", "[spline]") {
   for (const SplineDomain& domain : domains()) {
-    const TriBSplineSpace tri = makeSpace(domain, 3);
+    const TriBSplineSpace tri = homeChartSpace(domain, 3);
     const TriBSplineFitSpace space(tri);
     std::mt19937 random(7);
     const Eigen::MatrixXd control = randomControl(space.numBasis(), random);
@@ -247,7 +247,7 @@ TEST_CASE("tri_bspline_fit_space: walks across sides are reversible and continuo
 
 TEST_CASE("tri_bspline_fit_space: a walk into a cone stops just before it", "[spline]") {
   const SplineDomain domain = domains()[1];
-  const TriBSplineSpace tri = makeSpace(domain, 3);
+  const TriBSplineSpace tri = homeChartSpace(domain, 3);
   const TriBSplineFitSpace space(tri);
   int tried = 0;
   for (int f = 0; f < domain.faceCount(); ++f)
@@ -273,7 +273,7 @@ TEST_CASE("tri_bspline_fit_space: a walk into a cone stops just before it", "[sp
 TEST_CASE("tri_bspline_fit_space: the quadrature integrates quartics over the domain exactly",
           "[spline]") {
   for (const SplineDomain& domain : domains()) {
-    const TriBSplineSpace tri = makeSpace(domain, 2);
+    const TriBSplineSpace tri = homeChartSpace(domain, 2);
     const TriBSplineFitSpace space(tri);
     std::vector<FacePoint> nodes;
     std::vector<double> weights;

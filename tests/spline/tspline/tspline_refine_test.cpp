@@ -495,7 +495,7 @@ TEST_CASE("tspline_refine: bad input throws", "[spline]") {
                     Catch::Contains("split 1"));
 }
 
-TEST_CASE("tspline_refine: faces split into four at once as one after another", "[spline]") {
+TEST_CASE("tspline_refine: faces split into four at once as one after another", "[spline][slow]") {
   // A layout T-mesh of a real genus-2 mesh: T-junctions, turned frames across seams, cones.
   const test::FlatMetric flat = test::seamlessFlatMetric(test::realMesh("eight.off"));
   const structure::MotorcycleLayout layout(flat.surface, flat.lengths);

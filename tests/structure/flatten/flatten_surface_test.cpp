@@ -71,8 +71,8 @@ TEST_CASE("flatten_surface: genus-1 knot") {
   CHECK(messages.back() == "laying out");
 }
 
-TEST_CASE(
-    "flatten_surface: automatic cones are placed again when the handles cannot be quantized") {
+TEST_CASE("flatten_surface: automatic cones are placed again when the handles cannot be quantized",
+          "[structure][slow]") {
   // knot.off: the 8 cones placed first leave handle rotations whose quantization degenerates the
   // triangulation; joint.off (genus 2): the same with 2 cones.
   for (const auto& [name, loops] : {std::pair<const char*, std::size_t>{"knot.off", 2},

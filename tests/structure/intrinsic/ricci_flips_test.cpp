@@ -21,8 +21,8 @@ namespace {
 
 // Solves with flips, reports the figures, and checks the result independently: curvatures from
 // the returned intrinsic edge lengths and faces, Gauss-Bonnet, valid triangles, Delaunay.
-structure::RicciFlipsResult solveAndCheck(const std::string& name, const TriMesh& mesh,
-                                          const structure::CurvatureTarget& target) {
+structure::RicciFlipsResult solveWithFlipsAndCheck(const std::string& name, const TriMesh& mesh,
+                                                   const structure::CurvatureTarget& target) {
   structure::RicciNewtonOptions options;
   options.tolerance = 1e-10 / (2 * kPi);
   const auto out = structure::solveVertexScalingWithFlips(mesh, target, options);
@@ -93,7 +93,7 @@ TEST_CASE("ricci_flips: without flips needed it matches the plain solver", "[str
     cosineSum = std::min(cosineSum, input.delaunayCosineSum(e, 0 * plain.u));
   }
   REQUIRE(cosineSum >= -1e-13);  // rectangles of the grid are Delaunay ties
-  const auto flips = solveAndCheck("torus(32, 12), no cones", mesh, target);
+  const auto flips = solveWithFlipsAndCheck("torus(32, 12), no cones", mesh, target);
   CHECK(flips.flips == 0);
   CHECK((flips.ricci.u - plain.u).cwiseAbs().maxCoeff() <= 1e-9);
 
@@ -101,7 +101,7 @@ TEST_CASE("ricci_flips: without flips needed it matches the plain solver", "[str
   const TriMesh knot = test::realMesh("knot1.off");
   const auto knotTarget = structure::flatTarget(knot, {});
   const auto knotPlain = structure::solveVertexScaling(knot, knotTarget);
-  const auto knotFlips = solveAndCheck("knot1.off, no cones", knot, knotTarget);
+  const auto knotFlips = solveWithFlipsAndCheck("knot1.off, no cones", knot, knotTarget);
   WARN("knot1.off: max |u_flips - u_plain| = "
        << (knotFlips.ricci.u - knotPlain.u).cwiseAbs().maxCoeff());
   CHECK(knotFlips.flips > 0);
@@ -111,9 +111,9 @@ TEST_CASE("ricci_flips: eight.off with automatic cones and with a single cone", 
   const TriMesh mesh = test::realMesh("eight.off");
   SECTION("automatic cones") {
     const auto placement = structure::placeCones(mesh);
-    const auto out =
-        solveAndCheck("eight.off, " + std::to_string(placement.cones.size()) + " automatic cones",
-                      mesh, structure::flatTarget(mesh, placement.cones));
+    const auto out = solveWithFlipsAndCheck(
+        "eight.off, " + std::to_string(placement.cones.size()) + " automatic cones", mesh,
+        structure::flatTarget(mesh, placement.cones));
     CHECK(out.ricci.iterations <= 50);
   }
   SECTION("single cone") {
@@ -124,7 +124,7 @@ TEST_CASE("ricci_flips: eight.off with automatic cones and with a single cone", 
     const auto target = structure::flatTarget(mesh, placement.cones);
     // The plain solver cannot do it on the input triangulation.
     CHECK_FALSE(structure::solveVertexScaling(mesh, target).converged);
-    const auto out = solveAndCheck("eight.off, single cone", mesh, target);
+    const auto out = solveWithFlipsAndCheck("eight.off, single cone", mesh, target);
     CHECK(out.flips > 0);
     CHECK(out.inputEdgesFlipped > 0);
   }
@@ -133,7 +133,7 @@ TEST_CASE("ricci_flips: eight.off with automatic cones and with a single cone", 
 TEST_CASE("ricci_flips: mannequin-devil.off with a fixed boundary", "[structure]") {
   const TriMesh mesh = test::realMesh("mannequin-devil.off");
   const auto target = structure::flatTarget(mesh, {}, BoundaryCondition::FixedScale);
-  const auto out = solveAndCheck("mannequin-devil.off, fixed boundary", mesh, target);
+  const auto out = solveWithFlipsAndCheck("mannequin-devil.off, fixed boundary", mesh, target);
   CHECK(out.flips > 0);
   // Boundary edges are never flipped and keep their lengths (u = 0 there).
   const auto& tri = out.triangulation;

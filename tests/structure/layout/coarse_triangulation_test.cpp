@@ -27,19 +27,13 @@ using structure::TriMesh;
 
 namespace {
 
-using Flat = test::FlatMetric;
-
-Flat flatten(const TriMesh& mesh, const std::vector<structure::Cone>& cones) {
-  return test::flatMetric(mesh, cones);
-}
-
-Flat flattenWithQuantizedCones(const TriMesh& mesh) {
+test::FlatMetric flattenWithQuantizedCones(const TriMesh& mesh) {
   structure::ConePlacementOptions placement;
   placement.quantize = true;
-  return flatten(mesh, structure::placeCones(mesh, placement).cones);
+  return test::flatMetric(mesh, structure::placeCones(mesh, placement).cones);
 }
 
-double area(const std::array<double, 3>& l) {
+double heronArea(const std::array<double, 3>& l) {
   return structure::fourTimesArea(l[0], l[1], l[2]) / 4.0;
 }
 
@@ -49,7 +43,7 @@ struct FineTriangle {
   std::array<Eigen::Vector2d, 3> corner;
 };
 
-FineTriangle layOutFineFace(const Flat& flat, int f) {
+FineTriangle layOutFineFace(const test::FlatMetric& flat, int f) {
   FineTriangle t;
   std::array<double, 3> side;  // side k joins corners k and k + 1
   auto h = flat.surface.halfedge_handle(TriMesh::FaceHandle(f));
@@ -77,7 +71,7 @@ double distanceOnCoarse(const CoarseTriangulation& coarse, const structure::Surf
 // Locates the point of fine face `face` and checks that its distances to the fine face's
 // vertices, measured on the coarse triangulation, are the flat ones; returns the largest error
 // relative to the face's longest side.
-double locateAndMeasure(const Flat& flat, const CoarseTriangulation& coarse, int face,
+double locateAndMeasure(const test::FlatMetric& flat, const CoarseTriangulation& coarse, int face,
                         const Eigen::Vector3d& barycentric) {
   const FineTriangle t = layOutFineFace(flat, face);
   const auto at = structure::locateOnCoarse(flat.surface, coarse, face, barycentric);
@@ -102,8 +96,9 @@ double locateAndMeasure(const Flat& flat, const CoarseTriangulation& coarse, int
 
 // Checks every property the spline layer relies on; fine edges measured on the coarse
 // triangulation keep their lengths within `trackingTolerance` (relative).
-void checkCoarse(const std::string& name, const Flat& flat, const CoarseTriangulation& coarse,
-                 const CoarseningOptions& options, double seconds, double trackingTolerance) {
+void checkCoarse(const std::string& name, const test::FlatMetric& flat,
+                 const CoarseTriangulation& coarse, const CoarseningOptions& options,
+                 double seconds, double trackingTolerance) {
   const TriMesh& surface = flat.surface;
   const auto fineCurvature = structure::vertexCurvatures(surface, flat.lengths);
   int fineCones = 0;
@@ -161,11 +156,11 @@ void checkCoarse(const std::string& name, const Flat& flat, const CoarseTriangul
     std::array<double, 3> l;
     int k = 0;
     for (const auto e : surface.fe_range(f)) l[k++] = flat.lengths[e.idx()];
-    fineArea += area(l);
+    fineArea += heronArea(l);
   }
   for (const auto& l : coarse.sideLengths) {
-    coarseArea += area(l);
-    smallest = std::min(smallest, area(l));
+    coarseArea += heronArea(l);
+    smallest = std::min(smallest, heronArea(l));
   }
   CHECK(std::abs(coarseArea - fineArea) <= 1e-9 * fineArea);
   CHECK(smallest > 0.0);
@@ -215,7 +210,8 @@ void checkCoarse(const std::string& name, const Flat& flat, const CoarseTriangul
     const auto toSides = [&](const Eigen::Vector3d& p) {
       // The height onto the side opposite corner m (side m + 1) times p's weight of corner m.
       double nearest = std::numeric_limits<double>::infinity();
-      for (int m = 0; m < 3; ++m) nearest = std::min(nearest, p[m] * 2 * area(l) / l[(m + 1) % 3]);
+      for (int m = 0; m < 3; ++m)
+        nearest = std::min(nearest, p[m] * 2 * heronArea(l) / l[(m + 1) % 3]);
       return nearest;
     };
     if (length >= toSides(a.barycentric) + toSides(b.barycentric)) continue;
@@ -264,7 +260,7 @@ void checkCoarse(const std::string& name, const Flat& flat, const CoarseTriangul
   CHECK(worstLocated <= 1e-9);
 }
 
-CoarseTriangulation coarsenAndCheck(const std::string& name, const Flat& flat,
+CoarseTriangulation coarsenAndCheck(const std::string& name, const test::FlatMetric& flat,
                                     const CoarseningOptions& options,
                                     double trackingTolerance = 1e-9) {
   const auto start = std::chrono::steady_clock::now();
@@ -278,7 +274,7 @@ CoarseTriangulation coarsenAndCheck(const std::string& name, const Flat& flat,
 }  // namespace
 
 TEST_CASE("coarse_triangulation: knot1.off, a flat torus without cones", "[structure]") {
-  const Flat flat = flatten(test::realMesh("knot1.off"), {});
+  const test::FlatMetric flat = test::flatMetric(test::realMesh("knot1.off"), {});
   CoarseningOptions options;
   options.targetVertices = 300;
   const auto coarse = coarsenAndCheck("knot1.off", flat, options);
@@ -322,14 +318,15 @@ TEST_CASE("coarse_triangulation: generated torus and double torus", "[structure]
   // their neighbours, where no flip lowers the degree.
   CoarseningOptions options;
   options.targetVertices = 150;
-  const auto torus = coarsenAndCheck("torus(40, 20)", flatten(test::torus(40, 20), {}), options);
+  const auto torus =
+      coarsenAndCheck("torus(40, 20)", test::flatMetric(test::torus(40, 20), {}), options);
   CHECK(torus.complete);
   coarsenAndCheck("doubleTorus(2) quantized", flattenWithQuantizedCones(test::doubleTorus(2)),
                   options);
 }
 
 TEST_CASE("coarse_triangulation: eight.off with quantized cones", "[structure]") {
-  const Flat flat = flattenWithQuantizedCones(test::realMesh("eight.off"));
+  const test::FlatMetric flat = flattenWithQuantizedCones(test::realMesh("eight.off"));
   CoarseningOptions options;
   options.targetVertices = 400;
   coarsenAndCheck("eight.off quantized", flat, options);
@@ -339,8 +336,8 @@ TEST_CASE("coarse_triangulation: eight.off with quantized cones", "[structure]")
   for (char c : cones.isCone) CHECK(c);
 }
 
-TEST_CASE("coarse_triangulation: bunny00.off with quantized cones", "[structure]") {
-  const Flat flat = flattenWithQuantizedCones(test::realMesh("bunny00.off"));
+TEST_CASE("coarse_triangulation: bunny00.off with quantized cones", "[structure][slow]") {
+  const test::FlatMetric flat = flattenWithQuantizedCones(test::realMesh("bunny00.off"));
   for (const int target : {300, 2000}) {
     CoarseningOptions options;
     options.targetVertices = target;
@@ -349,7 +346,7 @@ TEST_CASE("coarse_triangulation: bunny00.off with quantized cones", "[structure]
 }
 
 TEST_CASE("coarse_triangulation: a density puts more vertices where it is higher", "[structure]") {
-  const Flat flat = flatten(test::torus(40, 20), {});
+  const test::FlatMetric flat = test::flatMetric(test::torus(40, 20), {});
   const int n = int(flat.surface.n_vertices());
   // The halves x > 0 and x < 0 are congruent in the flat metric.
   std::vector<char> dense(static_cast<std::size_t>(n), 0);
@@ -393,8 +390,8 @@ TEST_CASE("coarse_triangulation: a density puts more vertices where it is higher
 TEST_CASE("coarse_triangulation: keeping every vertex leaves the fine surface", "[structure]") {
   // Every located point then starts from a coarse vertex, cones included.
   for (const bool cones : {false, true}) {
-    const Flat flat =
-        cones ? flattenWithQuantizedCones(test::doubleTorus(2)) : flatten(test::torus(12, 8), {});
+    const test::FlatMetric flat = cones ? flattenWithQuantizedCones(test::doubleTorus(2))
+                                        : test::flatMetric(test::torus(12, 8), {});
     CoarseningOptions options;
     options.targetVertices = int(flat.surface.n_vertices()) + 5;
     options.delaunay = false;

@@ -176,12 +176,6 @@ void checkFlatTorus(const std::string& name, const TriMesh& mesh, double toleran
   }
 }
 
-std::size_t countOf(const std::string& text, const std::string& word) {
-  std::size_t count = 0;
-  for (auto at = text.find(word); at != std::string::npos; at = text.find(word, at + 1)) ++count;
-  return count;
-}
-
 }  // namespace
 
 TEST_CASE("flat_layout: knot1.off, genus 1 without cones", "[structure]") {
@@ -305,26 +299,26 @@ TEST_CASE("flat_layout: SVG pictures", "[structure]") {
   const FlatLayout layout = structure::layoutFlatMetric(torus, flatMetric(torus));
   const std::string picture = structure::layoutSvg(torus, layout);
   CHECK(picture.rfind("<svg", 0) == 0);
-  CHECK(countOf(picture, "<polygon") == torus.n_faces());
-  CHECK(countOf(picture, "<line") == 2 * layout.cutEdges.size());
-  CHECK(countOf(picture, "</svg>") == 1);
+  CHECK(test::countOf(picture, "<polygon") == torus.n_faces());
+  CHECK(test::countOf(picture, "<line") == 2 * layout.cutEdges.size());
+  CHECK(test::countOf(picture, "</svg>") == 1);
 
   structure::LayoutSvgOptions cover;
   cover.coverRadius = 1;
   const std::string tiled = structure::layoutSvg(torus, layout, cover);
   CHECK(tiled.rfind("<svg", 0) == 0);
-  CHECK(countOf(tiled, "<polygon") == 9 * torus.n_faces());
+  CHECK(test::countOf(tiled, "<polygon") == 9 * torus.n_faces());
 
   const TriMesh sphere = test::icosphere(2);
   const std::vector<Cone> cones = test::cubeCornerCones(sphere);
   const FlatLayout coned = structure::layoutFlatMetric(sphere, flatMetric(sphere, cones));
   const std::string sphereSvg = structure::layoutSvg(sphere, coned);
-  CHECK(countOf(sphereSvg, "<polygon") == sphere.n_faces());
+  CHECK(test::countOf(sphereSvg, "<polygon") == sphere.n_faces());
   // Each cone appears once per copy in the layout.
   std::size_t coneCopies = 0;
   for (int source : coned.chartSourceVertex)
     for (const Cone& c : coned.cones) coneCopies += (c.vertex == source);
-  CHECK(countOf(sphereSvg, "<circle") == coneCopies);
+  CHECK(test::countOf(sphereSvg, "<circle") == coneCopies);
   CHECK(coneCopies >= 8);
   CHECK_THROWS_AS(structure::layoutSvg(sphere, coned, cover), structure::InputError);
 }

@@ -219,12 +219,6 @@ TorusVoronoi checkVoronoi(const std::string& name, const TriMesh& mesh, const Fl
   return voronoi;
 }
 
-std::size_t countOf(const std::string& text, const std::string& word) {
-  std::size_t count = 0;
-  for (auto at = text.find(word); at != std::string::npos; at = text.find(word, at + 1)) ++count;
-  return count;
-}
-
 }  // namespace
 
 TEST_CASE("flat_torus_voronoi: knot1.off with 20 random sites", "[structure]") {
@@ -246,14 +240,14 @@ TEST_CASE("flat_torus_voronoi: knot1.off with 20 random sites", "[structure]") {
 
   const std::string picture = structure::torusVoronoiSvg(mesh, layout, sites, voronoi);
   CHECK(picture.rfind("<svg", 0) == 0);
-  CHECK(countOf(picture, "<polygon") == mesh.n_faces());
-  CHECK(countOf(picture, "<line") == voronoi.segments.size());
-  CHECK(countOf(picture, "<circle") == sites.size());
+  CHECK(test::countOf(picture, "<polygon") == mesh.n_faces());
+  CHECK(test::countOf(picture, "<line") == voronoi.segments.size());
+  CHECK(test::countOf(picture, "<circle") == sites.size());
   structure::TorusVoronoiSvgOptions cover;
   cover.coverRadius = 1;
   const std::string tiled = structure::torusVoronoiSvg(mesh, layout, sites, voronoi, cover);
-  CHECK(countOf(tiled, "<polygon") == 9 * mesh.n_faces());
-  CHECK(countOf(tiled, "<circle") == 9 * sites.size());
+  CHECK(test::countOf(tiled, "<polygon") == 9 * mesh.n_faces());
+  CHECK(test::countOf(tiled, "<circle") == 9 * sites.size());
   cover.coverRadius = -1;
   CHECK_THROWS_AS(structure::torusVoronoiSvg(mesh, layout, sites, voronoi, cover),
                   structure::InputError);

@@ -12,7 +12,7 @@ using mspline::structure::PlanarDelaunay;
 
 namespace {
 
-double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+double perpDot(const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
   return a.x() * b.y() - a.y() * b.x();
 }
 
@@ -25,7 +25,7 @@ void checkDelaunay(const std::vector<Eigen::Vector2d>& points, const PlanarDelau
   int violations = 0, clockwise = 0;
   for (const auto& t : triangles) {
     const Eigen::Vector2d a = points[t[0]], b = points[t[1]], c = points[t[2]];
-    if (cross(b - a, c - a) <= 0.0) ++clockwise;
+    if (perpDot(b - a, c - a) <= 0.0) ++clockwise;
     Eigen::Matrix2d rows;
     rows << (b - a).transpose(), (c - a).transpose();
     const Eigen::Vector2d center =

@@ -28,7 +28,7 @@ namespace {
 
 using Face = std::vector<std::int64_t>;
 
-std::vector<std::string> kinds(const ValidationReport& report) {
+std::vector<std::string> problemKinds(const ValidationReport& report) {
   std::vector<std::string> out;
   for (const auto& problem : report.problems) out.push_back(problem.kind);
   return out;
@@ -100,7 +100,7 @@ RepairOptions allRepairs() {
 TEST_CASE("split edges: two tetrahedra sharing an edge become two closed tetrahedra",
           "[structure]") {
   const PolygonSoup s = twoTetrahedraSharingAnEdge();
-  REQUIRE(kinds(validate(s)) == std::vector<std::string>{"non_manifold_edge"});
+  REQUIRE(problemKinds(validate(s)) == std::vector<std::string>{"non_manifold_edge"});
   const SplitNonManifoldEdgesResult split = splitNonManifoldEdges(s);
   CHECK(split.edgesSplit == 1);
   CHECK(split.pairsKept == 2);
@@ -110,7 +110,7 @@ TEST_CASE("split edges: two tetrahedra sharing an edge become two closed tetrahe
   CHECK(sameGeometry(s, split.soup));
   // Each tetrahedron keeps its own faces glued: no boundary, two components of 4 vertices.
   const auto after = validate(split.soup);
-  CHECK(kinds(after) == std::vector<std::string>{"multiple_components"});
+  CHECK(problemKinds(after) == std::vector<std::string>{"multiple_components"});
   CHECK(after.edges == 12);
   CHECK(componentVertexSets(split.soup) ==
         std::set<std::set<std::int64_t>>{{0, 1, 2, 3}, {4, 5, 6, 7}});
@@ -125,7 +125,7 @@ TEST_CASE("split edges: pages of a book pair up by orientation and angle", "[str
     CHECK(split.verticesAdded == 2);
     // Page 0 comes first and keeps the edge's vertices; pages 1 and 2 share copies of them.
     CHECK(split.soup.faces == std::vector<Face>{{0, 1, 2}, {6, 5, 3}, {5, 6, 4}});
-    CHECK(kinds(validate(split.soup)) == std::vector<std::string>{"multiple_components"});
+    CHECK(problemKinds(validate(split.soup)) == std::vector<std::string>{"multiple_components"});
   }
   SECTION("four alternating pages: two folded sheets") {
     const PolygonSoup s = book({true, false, true, false});
@@ -136,7 +136,7 @@ TEST_CASE("split edges: pages of a book pair up by orientation and angle", "[str
     CHECK(componentVertexSets(split.soup) ==
           std::set<std::set<std::int64_t>>{{0, 1, 2, 5}, {6, 7, 3, 4}});
     const auto after = validate(split.soup);
-    CHECK(kinds(after) == std::vector<std::string>{"multiple_components"});
+    CHECK(problemKinds(after) == std::vector<std::string>{"multiple_components"});
     CHECK(after.components == 2);
   }
   SECTION("pages all running the same way: no consistent pair, every page alone") {
@@ -172,7 +172,7 @@ TEST_CASE("split edges: a fin on a fan's spoke comes off, the fan stays whole", 
   CHECK(split.pairsKept == 1);
   CHECK(split.facesDetached == 1);
   const auto after = validate(split.soup);
-  CHECK(kinds(after) == std::vector<std::string>{"multiple_components"});
+  CHECK(problemKinds(after) == std::vector<std::string>{"multiple_components"});
   // The disc keeps vertices 0..6; the fin's edge got the copies.
   CHECK(split.soup.faces.back() == Face{8, 9, 7});
   for (std::size_t f = 0; f < 6; ++f) CHECK(split.soup.faces[f] == s.faces[f]);
@@ -190,7 +190,7 @@ TEST_CASE("split edges: repairs in one pass mend split edges, duplicates and bow
   s.positions.push_back({0, 1, 2});
   s.faces.push_back({3, 7, 8});
   s.positions.push_back({9, 9, 9});
-  const auto before = kinds(validate(s));
+  const auto before = problemKinds(validate(s));
   CHECK(before == std::vector<std::string>{"non_manifold_edge", "non_manifold_vertex",
                                            "duplicate_face", "unreferenced_vertex"});
 

@@ -37,8 +37,8 @@ double curvatureSum(const std::vector<Cone>& cones) {
 
 // Newton on the placed cones, asked for an absolute curvature error of 1e-10; prints the figures
 // the milestone reports (area distortion exp(2u) normalized by its geometric mean).
-structure::RicciResult flatten(const std::string& name, const TriMesh& mesh,
-                               const structure::ConePlacementResult& placement) {
+structure::RicciResult flattenChecked(const std::string& name, const TriMesh& mesh,
+                                      const structure::ConePlacementResult& placement) {
   structure::RicciNewtonOptions options;
   options.tolerance = 1e-10 / (2.0 * kPi);
   const auto target = structure::flatTarget(mesh, placement.cones, BoundaryCondition::FixedScale);
@@ -91,7 +91,7 @@ TEST_CASE("cone_placement: icosphere, automatic cones flatten it", "[structure]"
   // One distortion per round, the last one below the default threshold.
   CHECK(placement.distortionPerRound.size() == placement.cones.size() + 1);
   CHECK(placement.distortionPerRound.back() <= ConePlacementOptions{}.maxDistortion);
-  checkConverged(mesh, flatten("icosphere(3)", mesh, placement));
+  checkConverged(mesh, flattenChecked("icosphere(3)", mesh, placement));
 }
 
 TEST_CASE("cone_placement: icosphere, quantized cones are quarter turns", "[structure]") {
@@ -111,7 +111,7 @@ TEST_CASE("cone_placement: icosphere, quantized cones are quarter turns", "[stru
   }
   CHECK(turns == 8);
   CHECK(std::abs(curvatureSum(placement.cones) - 4 * kPi) <= 1e-12);
-  checkConverged(mesh, flatten("icosphere(3) quantized", mesh, placement));
+  checkConverged(mesh, flattenChecked("icosphere(3) quantized", mesh, placement));
 }
 
 TEST_CASE("cone_placement: requested counts", "[structure]") {
@@ -125,7 +125,7 @@ TEST_CASE("cone_placement: requested counts", "[structure]") {
   for (const Cone& a : six.cones)
     for (const auto w : sphere.vv_range(TriMesh::VertexHandle(a.vertex)))
       for (const Cone& b : six.cones) CHECK(w.idx() != b.vertex);
-  checkConverged(sphere, flatten("icosphere(2), 6 cones", sphere, six));
+  checkConverged(sphere, flattenChecked("icosphere(2), 6 cones", sphere, six));
 
   // A sphere cannot be flat without cones, nor with a single one (angle -2 pi).
   options.targetCount = 0;
@@ -151,7 +151,7 @@ TEST_CASE("cone_placement: knot1.off, genus 1, zero cones", "[structure]") {
   const auto placement = structure::placeCones(mesh, options);
   CHECK(placement.cones.empty());
   CHECK(placement.distortion > 0.0);
-  checkConverged(mesh, flatten("knot1.off, 0 cones", mesh, placement));
+  checkConverged(mesh, flattenChecked("knot1.off, 0 cones", mesh, placement));
 }
 
 TEST_CASE("cone_placement: genus 2 with a single cone", "[structure]") {
@@ -167,7 +167,7 @@ TEST_CASE("cone_placement: genus 2 with a single cone", "[structure]") {
     // A cone of angle 6 pi squeezes its neighbourhood until, on the fixed input triangulation,
     // triangles degenerate: without intrinsic Delaunay flips the solve stops (on both meshes, at
     // every vertex of eight.off). The failure must be reported as such, never silent.
-    const auto result = flatten(name + ", single cone", mesh, placement);
+    const auto result = flattenChecked(name + ", single cone", mesh, placement);
     INFO(result.message);
     if (result.converged) {
       checkConverged(mesh, result);
@@ -189,13 +189,13 @@ TEST_CASE("cone_placement: genus 2, automatic cones satisfy Gauss-Bonnet", "[str
   const auto placement = structure::placeCones(mesh, options);
   REQUIRE_FALSE(placement.cones.empty());
   CHECK(std::abs(curvatureSum(placement.cones) + 4 * kPi) <= 1e-12);
-  checkConverged(mesh, flatten("doubleTorus(3)", mesh, placement));
+  checkConverged(mesh, flattenChecked("doubleTorus(3)", mesh, placement));
   options.quantize = true;
   const auto quantized = structure::placeCones(mesh, options);
   int turns = 0;
   for (int k : quantized.quarterTurns) turns += k;
   CHECK(turns == -8);
-  checkConverged(mesh, flatten("doubleTorus(3) quantized", mesh, quantized));
+  checkConverged(mesh, flattenChecked("doubleTorus(3) quantized", mesh, quantized));
 }
 
 TEST_CASE("cone_placement: surfaces with boundary keep u = 0 there", "[structure]") {
@@ -215,13 +215,13 @@ TEST_CASE("cone_placement: surfaces with boundary keep u = 0 there", "[structure
   CHECK(placement.distortion <= placement.distortionPerRound.front());
   for (const Cone& c : placement.cones)
     CHECK_FALSE(cap.is_boundary(TriMesh::VertexHandle(c.vertex)));
-  checkConverged(cap, flatten("capped icosphere(3)", cap, placement));
+  checkConverged(cap, flattenChecked("capped icosphere(3)", cap, placement));
 
   options.quantize = true;
   const auto quantized = structure::placeCones(cap, options);
   for (std::size_t i = 0; i < quantized.cones.size(); ++i)
     CHECK(quantized.cones[i].curvature == quantized.quarterTurns[i] * (kPi / 2));
-  checkConverged(cap, flatten("capped icosphere(3) quantized", cap, quantized));
+  checkConverged(cap, flattenChecked("capped icosphere(3) quantized", cap, quantized));
 }
 
 // The input's Gauss curvature and cotangent Laplacian, factorized with u = 0 held on the boundary
@@ -293,7 +293,7 @@ TEST_CASE("cone_placement: bunny00.off, automatic quantized cones", "[structure]
   int turns = 0;
   for (int k : placement.quarterTurns) turns += k;
   CHECK(turns == 8);
-  const auto result = flatten("bunny00.off quantized", mesh, placement);
+  const auto result = flattenChecked("bunny00.off quantized", mesh, placement);
   checkConverged(mesh, result);
   CHECK(result.iterations <= 20);
 }
@@ -452,7 +452,7 @@ TEST_CASE("cone_placement: coarse polyhedra get a cone at every corner that need
   const auto quantized = structure::placeCones(tetrahedron, options);
   REQUIRE(quantized.quarterTurns.size() == 4);
   for (int k : quantized.quarterTurns) CHECK(k == 2);
-  checkConverged(tetrahedron, flatten("tetrahedron, angles pi", tetrahedron, quantized));
+  checkConverged(tetrahedron, flattenChecked("tetrahedron, angles pi", tetrahedron, quantized));
   // An octahedron's six corners carry 4/3 of a quarter turn each: too few cones for at most one
   // quarter turn each until all six are placed.
   const TriMesh octahedron = structure::toTriMesh(test::octahedronSoup());
@@ -484,7 +484,7 @@ TEST_CASE("cone_placement: quantized cones can be kept at angle pi or more", "[s
   }
   CHECK(turns == 8);
   CHECK(std::abs(curvatureSum(blunt.cones) - 4 * kPi) <= 1e-12);
-  checkConverged(mesh, flatten("spiked icosphere, angles >= pi", mesh, blunt));
+  checkConverged(mesh, flattenChecked("spiked icosphere, angles >= pi", mesh, blunt));
   options.maxQuarterTurns = 4;
   CHECK_THROWS_AS(structure::placeCones(mesh, options), structure::InputError);
 }

@@ -71,7 +71,7 @@ Eigen::VectorXd sampleTarget(const TriMesh& mesh, unsigned seed) {
   return t;
 }
 
-std::vector<int> sampleVertices(const TriMesh& mesh, int count, unsigned seed) {
+std::vector<int> randomVertices(const TriMesh& mesh, int count, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_int_distribution<int> pick(0, static_cast<int>(mesh.n_vertices()) - 1);
   std::vector<int> vertices;
@@ -286,8 +286,8 @@ TEST_CASE("vertex_scaling_energy: gradient and Hessian match finite differences"
     REQUIRE(structure::degenerateFaces(
                 mesh, structure::scaledEdgeLengths(mesh, structure::edgeLengths(mesh), u))
                 .empty());
-    checkGradientAgainstEnergy(mesh, u, sampleTarget(mesh, 4), sampleVertices(mesh, 40, 5));
-    checkHessianAgainstGradient(mesh, u, sampleVertices(mesh, 40, 6));
+    checkGradientAgainstEnergy(mesh, u, sampleTarget(mesh, 4), randomVertices(mesh, 40, 5));
+    checkHessianAgainstGradient(mesh, u, randomVertices(mesh, 40, 6));
   }
   SECTION("disk with boundary") {
     const TriMesh mesh = test::gridDisk(6);
