@@ -199,7 +199,8 @@ TEST_CASE("error_policy: failed computations exit 3 naming the stage, whatever t
   }
 }
 
-TEST_CASE("error_policy: the error comes first, warnings after; info reports it in JSON", "[cli]") {
+TEST_CASE("error_policy: the error comes first, warnings after, and info reports it in JSON",
+          "[cli]") {
   const fs::path dir = mspline::test::scratchDirectory("error_policy_order");
   // A quad (triangulated, with a warning) and a vertex no face uses (invalid).
   const fs::path scan = dir / "quad.obj";
