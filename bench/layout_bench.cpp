@@ -1,7 +1,8 @@
 // Benchmark and data-set sweep of the seamless quad layout that T-spline and subd fits start
 // from: per mesh, the same steps as `mspline fit --kind tspline` up to its first spline space
-// (holes closed by fill patches, the flat metric with quarter-turn cones of angle >= pi, the
-// motorcycle layout, its quantization and the T-mesh: spline/model/build_spline.h), and a table of
+// (holes closed by fill patches, a coarse polyhedron split at its edge midpoints, the flat metric
+// with quarter-turn cones, the motorcycle layout, its quantization and the T-mesh:
+// spline/model/build_spline.h), and a table of
 // what came out: the stage that failed and why, or the layout's figures (cones, extraordinary
 // points, collapsed segments, the cells' anisotropy p99 and max) and its time against the
 // flattening's (cones + Ricci flow + its layout).
@@ -9,7 +10,8 @@
 // quantization no slower than the flattening, on bunny00 and on a mesh of about 1M faces (bunny00
 // subdivided, the last row).
 // Each mesh runs in a child process (a crash or a hang costs one row; --limit seconds each).
-// Usage: layout_bench [--control N] [--limit SECONDS] [--faces F] [MESH...]
+// Usage: layout_bench [--control N] [--limit SECONDS] [--faces F] [--min-corner-valence 2|3]
+//                     [MESH...]
 //   MESH: files or names in data/meshes (default: every .off there); F: the size of the
 //   subdivided bunny00 row (default 1000000, 0: none).
 #include <poll.h>
@@ -34,6 +36,7 @@
 #include "mspline/structure/flatten/flatten_surface.h"
 #include "mspline/structure/mesh/cap_holes.h"
 #include "mspline/structure/mesh/subdivide.h"
+#include "mspline/structure/ricci/cone_placement.h"
 #include "mspline/structure/topology/topology.h"
 
 using namespace mspline;
@@ -51,7 +54,8 @@ struct Row {
   std::string name;
   std::string status = "ok";  // or "<stage>: <why>"
   long faces = 0;
-  int holes = 0, cones = 0, extraordinary = 0, traces = 0, collapsed = 0, cells = 0;
+  int holes = 0, subdivisions = 0, cones = 0, extraordinary = 0, traces = 0, collapsed = 0,
+      cells = 0;
   double anisotropyP99 = 0.0, anisotropyMax = 0.0;
   double flattenSeconds = 0.0, layoutSeconds = 0.0;
 
@@ -61,9 +65,10 @@ struct Row {
     std::replace(why.begin(), why.end(), '\n', ' ');
     std::ostringstream out;
     out.precision(17);
-    out << why << '\t' << faces << '\t' << holes << '\t' << cones << '\t' << extraordinary << '\t'
-        << traces << '\t' << collapsed << '\t' << cells << '\t' << anisotropyP99 << '\t'
-        << anisotropyMax << '\t' << flattenSeconds << '\t' << layoutSeconds << '\n';
+    out << why << '\t' << faces << '\t' << holes << '\t' << subdivisions << '\t' << cones << '\t'
+        << extraordinary << '\t' << traces << '\t' << collapsed << '\t' << cells << '\t'
+        << anisotropyP99 << '\t' << anisotropyMax << '\t' << flattenSeconds << '\t' << layoutSeconds
+        << '\n';
     return out.str();
   }
   void decode(const std::string& line) {
@@ -72,23 +77,24 @@ struct Row {
     std::string field;
     std::vector<std::string> fields;
     while (std::getline(in, field, '\t')) fields.push_back(field);
-    if (fields.size() != 11) return;
+    if (fields.size() != 12) return;
     faces = std::stol(fields[0]);
     holes = std::stoi(fields[1]);
-    cones = std::stoi(fields[2]);
-    extraordinary = std::stoi(fields[3]);
-    traces = std::stoi(fields[4]);
-    collapsed = std::stoi(fields[5]);
-    cells = std::stoi(fields[6]);
-    anisotropyP99 = std::stod(fields[7]);
-    anisotropyMax = std::stod(fields[8]);
-    flattenSeconds = std::stod(fields[9]);
-    layoutSeconds = std::stod(fields[10]);
+    subdivisions = std::stoi(fields[2]);
+    cones = std::stoi(fields[3]);
+    extraordinary = std::stoi(fields[4]);
+    traces = std::stoi(fields[5]);
+    collapsed = std::stoi(fields[6]);
+    cells = std::stoi(fields[7]);
+    anisotropyP99 = std::stod(fields[8]);
+    anisotropyMax = std::stod(fields[9]);
+    flattenSeconds = std::stod(fields[10]);
+    layoutSeconds = std::stod(fields[11]);
   }
 };
 
 // The steps of fit up to its first space, on one mesh (in the child).
-Row layOut(const std::string& path, long subdivideTo, int control) {
+Row layOut(const std::string& path, long subdivideTo, int control, int minCornerValence) {
   Row row;
   std::optional<structure::TriMesh> loaded;
   try {
@@ -107,10 +113,13 @@ Row layOut(const std::string& path, long subdivideTo, int control) {
       row.holes = int(capped.caps);
       mesh = std::move(capped.mesh);
     }
+    row.subdivisions = structure::midpointLevelsForQuarterTurnCones(mesh, 4 - minCornerValence);
+    for (int level = 0; level < row.subdivisions; ++level)
+      mesh = structure::subdivideMidpoint(mesh);
     stage = "flatten";
     structure::FlattenOptions flatten;
     flatten.quantize = true;
-    flatten.maxConeQuarterTurns = 2;
+    flatten.maxConeQuarterTurns = 4 - minCornerValence;
     const auto start = Clock::now();
     const structure::Flattening flattening = structure::flattenSurface(mesh, flatten);
     row.flattenSeconds = since(start);
@@ -140,7 +149,7 @@ Row layOut(const std::string& path, long subdivideTo, int control) {
 
 // Runs layOut in a child process; a crash or the time limit is the row's status.
 Row runChild(const std::string& path, const std::string& name, long subdivideTo, int control,
-             double limit) {
+             int minCornerValence, double limit) {
   Row row;
   row.name = name;
   std::fflush(stdout);
@@ -153,7 +162,7 @@ Row runChild(const std::string& path, const std::string& name, long subdivideTo,
   const pid_t pid = fork();
   if (pid == 0) {
     close(ends[0]);
-    const std::string line = layOut(path, subdivideTo, control).encode();
+    const std::string line = layOut(path, subdivideTo, control, minCornerValence).encode();
     const ssize_t written = write(ends[1], line.data(), line.size());
     _exit(written == ssize_t(line.size()) ? 0 : 1);
   }
@@ -196,19 +205,27 @@ bool meetsAnisotropy(const Row& row) {
 
 int main(int argc, char** argv) {
   int control = 6000;
+  int minCornerValence = 2;
   double limit = 900.0;
   long bigFaces = 1000000;
   std::vector<std::string> paths;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    if ((arg == "--control" || arg == "--limit" || arg == "--faces") && i + 1 < argc) {
+    if ((arg == "--control" || arg == "--limit" || arg == "--faces" ||
+         arg == "--min-corner-valence") &&
+        i + 1 < argc) {
       const std::string value = argv[++i];
+      if (arg == "--min-corner-valence") minCornerValence = std::stoi(value);
       if (arg == "--control") control = std::stoi(value);
       if (arg == "--limit") limit = std::stod(value);
       if (arg == "--faces") bigFaces = std::stol(value);
     } else {
       paths.push_back(arg);
     }
+  }
+  if (minCornerValence < 2 || minCornerValence > 3) {
+    std::fprintf(stderr, "layout_bench: --min-corner-valence must be 2 or 3\n");
+    return 2;
   }
   const fs::path data = fs::path(MSPLINE_SOURCE_DIR) / "data" / "meshes";
   for (std::string& path : paths)
@@ -224,31 +241,32 @@ int main(int argc, char** argv) {
     std::sort(paths.begin(), paths.end());
   }
   std::printf(
-      "layout of fit --kind tspline (quarter-turn cones of angle >= pi), %d control points "
-      "wanted, %.0f s limit per mesh\n\n",
-      control, limit);
-  std::printf("%-28s %9s %5s %5s %6s %6s %5s %7s %7s %7s %8s %8s %6s  %s\n", "mesh", "faces",
-              "holes", "cones", "extra", "traces", "coll", "cells", "aniso99", "anisoMx", "flat s",
-              "layout s", "ratio", "status");
+      "layout of fit --kind tspline --min-corner-valence %d, %d control points wanted, %.0f s "
+      "limit per mesh\n\n",
+      minCornerValence, control, limit);
+  std::printf("%-28s %9s %5s %3s %5s %6s %6s %5s %7s %7s %7s %8s %8s %6s  %s\n", "mesh", "faces",
+              "holes", "sub", "cones", "extra", "traces", "coll", "cells", "aniso99", "anisoMx",
+              "flat s", "layout s", "ratio", "status");
   std::vector<Row> rows;
   const auto print = [](const Row& row) {
-    std::printf("%-28s %9ld %5d %5d %6d %6d %5d %7d %7.2f %7.2f %8.2f %8.2f %6.2f  %s\n",
-                row.name.c_str(), row.faces, row.holes, row.cones, row.extraordinary, row.traces,
-                row.collapsed, row.cells, row.anisotropyP99, row.anisotropyMax, row.flattenSeconds,
-                row.layoutSeconds,
+    std::printf("%-28s %9ld %5d %3d %5d %6d %6d %5d %7d %7.2f %7.2f %8.2f %8.2f %6.2f  %s\n",
+                row.name.c_str(), row.faces, row.holes, row.subdivisions, row.cones,
+                row.extraordinary, row.traces, row.collapsed, row.cells, row.anisotropyP99,
+                row.anisotropyMax, row.flattenSeconds, row.layoutSeconds,
                 row.flattenSeconds > 0.0 ? row.layoutSeconds / row.flattenSeconds : 0.0,
                 row.status.substr(0, 160).c_str());
     std::fflush(stdout);
   };
   for (const std::string& path : paths) {
-    rows.push_back(runChild(path, fs::path(path).filename().string(), 0, control, limit));
+    rows.push_back(
+        runChild(path, fs::path(path).filename().string(), 0, control, minCornerValence, limit));
     print(rows.back());
   }
   std::optional<Row> big;
   if (bigFaces > 0) {
-    big =
-        runChild((data / "bunny00.off").string(),
-                 "bunny00.off to " + std::to_string(bigFaces) + " faces", bigFaces, control, limit);
+    big = runChild((data / "bunny00.off").string(),
+                   "bunny00.off to " + std::to_string(bigFaces) + " faces", bigFaces, control,
+                   minCornerValence, limit);
     print(*big);
   }
 

@@ -124,6 +124,7 @@ void addFitCommand(CLI::App& app, Command& command) {
                   "Refinement rounds at most (default 6)")
       ->check(CLI::Range(0, 50));
   addFlattenOptions(*sub, arguments->settings, "--flatten-tolerance");
+  addCornerValenceOption(*sub, arguments->fit.minCornerValence);
   sub->add_flag("--json", command.json, "Print one JSON object on stdout");
   sub->callback([&command, arguments] {
     command.name = "fit";
@@ -160,6 +161,7 @@ void addFitCommand(CLI::App& app, Command& command) {
                   {"scan_vertices", loaded.mesh->n_vertices()},
                   {"scan_vertices_measured", e.scanToSurface.count},
                   {"filled_holes", fit.filledHoles},
+                  {"midpoint_subdivisions", fit.midpointSubdivisions},
                   {"rms_error", e.scanToSurface.rms},
                   {"max_error", e.scanToSurface.max},
                   {"rms_error_surface_to_scan", e.surfaceToScan.rms},

@@ -54,6 +54,15 @@ void addFlattenOptions(CLI::App& sub, FlattenSettings& settings, const std::stri
   sub.add_flag("-q,--quiet", settings.quiet, "No progress on stderr");
 }
 
+void addCornerValenceOption(CLI::App& sub, int& minCornerValence) {
+  sub.add_option(
+         "--min-corner-valence", minCornerValence,
+         "Quad layout: the smallest valence of a cone's corner, 2 (default: one cone of "
+         "angle pi at a sharp tip) or 3 (cones of angle 3 pi / 2 at most; a cube's layout is "
+         "its six faces; fits fold more at tips today)")
+      ->check(CLI::Range(2, 3));
+}
+
 std::string coneFile(const FlattenSettings& settings) {
   const std::string& cones = settings.cones;
   const bool named = !isCount(cones) && cones != "none" && cones != "auto" && !settings.singleCone;

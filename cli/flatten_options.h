@@ -35,6 +35,10 @@ bool parseCount(const std::string& text, int& count);
 void addFlattenOptions(CLI::App& sub, FlattenSettings& settings,
                        const std::string& toleranceFlag = "--tolerance");
 
+/// Adds --min-corner-valence (2 or 3, default 2) to a subcommand that builds a quad layout: the
+/// smallest valence of a cone's corner (see spline::FitOptions::minCornerValence).
+void addCornerValenceOption(CLI::App& sub, int& minCornerValence);
+
 /// The cone file --cones names, or "" when it names none (auto, none, a count, or unread because
 /// of --single-cone).
 std::string coneFile(const FlattenSettings& settings);

@@ -2,6 +2,7 @@
 // (structure/flatten/flatten_surface.h), the spline space built on it and its control points
 // fitted to the mesh with fairing and parameter correction (spline/model/build_spline.h).
 #include <iostream>
+#include <optional>
 
 #include "cli/command.h"
 #include "cli/flatten_options.h"
@@ -12,6 +13,8 @@
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/core/stopwatch.h"
 #include "mspline/structure/mesh/bounding_box.h"
+#include "mspline/structure/mesh/subdivide.h"
+#include "mspline/structure/ricci/cone_placement.h"
 #include "mspline/structure/topology/topology.h"
 
 namespace mspline::cli {
@@ -27,6 +30,7 @@ struct SplineArguments {
   double cloudRadius = 0.3;
   double grid = 0.0;
   unsigned seed = 1;
+  int minCornerValence = 2;
   spline::SurfaceFitOptions fit;
   FlattenSettings settings;
 };
@@ -70,15 +74,16 @@ void addSplineCommand(CLI::App& app, Command& command) {
   sub->add_option("--seed", arguments->seed, "Seed of the knot clouds (default 1)");
   addFairingOptions(*sub, arguments->fit.smoothing, arguments->fit.correctionRounds);
   addFlattenOptions(*sub, arguments->settings);
+  addCornerValenceOption(*sub, arguments->minCornerValence);
   sub->add_flag("--json", command.json, "Print one JSON object on stdout");
   sub->callback([&command, arguments] {
     command.name = "spline";
     command.files = {arguments->mesh, arguments->output, coneFile(arguments->settings)};
     // T-spline knot lines must survive chart changes: quarter-turn cones and holonomy.
-    // Quad grids also need every cone angle to be at least pi (no vertex of valence one).
+    // A quad layout's corner has valence 4 - k at a cone of k quarter turns.
     if (arguments->kind == "tspline") {
       arguments->settings.quantize = true;
-      arguments->settings.maxConeQuarterTurns = 2;
+      arguments->settings.maxConeQuarterTurns = 4 - arguments->minCornerValence;
     }
     command.run = [&command, arguments] {
       const SplineArguments& a = *arguments;
@@ -89,18 +94,26 @@ void addSplineCommand(CLI::App& app, Command& command) {
       structure::Stopwatch clock;
       Json stages;
       io::LoadedMesh loaded = io::loadMesh(a.mesh);
-      const structure::TriMesh& mesh = *loaded.mesh;
       stages["load"] = clock.lap();
-      const structure::TopologyReport topology = structure::analyzeTopology(mesh);
+      const structure::TopologyReport topology = structure::analyzeTopology(*loaded.mesh);
       if (!topology.closed)
         throw structure::InputError(a.mesh + ": spline needs a closed surface; this one has " +
                                     std::to_string(topology.boundaryLoops) + " boundary loops");
+      // A coarse polyhedron split at its edge midpoints (the same surface) when its vertices are
+      // too few for the quad layout's cones.
+      const bool tspline = a.kind == "tspline";
+      const int subdivisions = tspline ? structure::midpointLevelsForQuarterTurnCones(
+                                             *loaded.mesh, a.settings.maxConeQuarterTurns)
+                                       : 0;
+      std::optional<structure::TriMesh> subdivided;
+      for (int level = 0; level < subdivisions; ++level)
+        subdivided = structure::subdivideMidpoint(subdivided ? *subdivided : *loaded.mesh);
+      const structure::TriMesh& mesh = subdivided ? *subdivided : *loaded.mesh;
       const structure::FlattenOptions flattenOptions = toFlattenOptions(a.settings, a.mesh);
       const structure::Flattening flattening =
           structure::flattenSurface(mesh, flattenOptions, progress);
       const Json flat = flatteningJson(flattening, flattenOptions, stages, command);
       spline::BuildSplineOptions options;
-      const bool tspline = a.kind == "tspline";
       options.kind = tspline ? spline::SpaceKind::TSpline : spline::SpaceKind::TriBSpline;
       options.degree = a.degree;
       options.control = a.control;
@@ -123,7 +136,8 @@ void addSplineCommand(CLI::App& app, Command& command) {
                   {"output", a.output},
                   {"kind", a.kind},
                   {"degree", tspline ? 3 : a.degree},
-                  {"control_points", model.controlPoints.rows()}};
+                  {"control_points", model.controlPoints.rows()},
+                  {"midpoint_subdivisions", subdivisions}};
       if (tspline)
         report.update(Json{{"tmesh_faces", model.tmesh.numFaces()},
                            {"t_junctions", model.tmesh.numTJunctions()},

@@ -45,6 +45,7 @@ py::dict fitReport(const spline::FitResult& result, const spline::FitOptions& op
   report["kind"] = spline::fitKindName(options.kind);
   report["control_points"] = model.model.controlPoints.rows();
   report["filled_holes"] = result.filledHoles;
+  report["midpoint_subdivisions"] = result.midpointSubdivisions;
   report["tolerance"] = options.tolerance;
   report["max_error_wanted"] = options.maxErrorFactor * options.tolerance;
   report["reached_tolerance"] = result.reachedTolerance;
@@ -89,7 +90,8 @@ py::dict fitReport(const spline::FitResult& result, const spline::FitOptions& op
 
 Model fit(const py::handle& vertices, const py::handle& faces, const std::string& kind,
           double tolerance, int maxControl, int control, double smoothing, int rounds,
-          int maxRefinements, const py::object& progress, const std::string& name) {
+          int maxRefinements, int minCornerValence, const py::object& progress,
+          const std::string& name) {
   const structure::PolygonSoup soup = toSoup(vertices, faces, name);
   spline::FitOptions options;
   options.kind = spline::parseFitKind(kind);
@@ -99,6 +101,7 @@ Model fit(const py::handle& vertices, const py::handle& faces, const std::string
   options.smoothing = smoothing;
   options.correctionRounds = rounds;
   options.maxRefinements = maxRefinements;
+  options.minCornerValence = minCornerValence;
   options.flatten.name = name;
   const structure::Progress report = progressOf(progress, "fit");
   std::optional<Model> model;
@@ -135,16 +138,18 @@ void bindFit(py::module_& module, py::class_<Model>& model) {
       py::arg("tolerance") = defaults.tolerance, py::arg("max_control") = defaults.maxControl,
       py::arg("control") = defaults.control, py::arg("smoothing") = defaults.smoothing,
       py::arg("rounds") = defaults.correctionRounds,
-      py::arg("max_refinements") = defaults.maxRefinements, py::arg("progress") = py::none(),
+      py::arg("max_refinements") = defaults.maxRefinements,
+      py::arg("min_corner_valence") = defaults.minCornerValence, py::arg("progress") = py::none(),
       py::arg("name") = "<arrays>",
       "Fits a spline surface to the scan (V, F) as `mspline fit` does (same options, same "
       "control points): kind 'tspline', 'tribspline' or 'subd'; tolerance: wanted RMS "
       "distance relative to the bounding-box diagonal; max_control: control point budget; "
       "control: control points to start with (0: 3/4 of the budget); smoothing: fairing "
       "weight (< 0: chosen by hold-out validation); rounds: parameter correction rounds; "
-      "max_refinements: refinement rounds at most; progress: None or a callable (stage, "
-      "fraction); name: names the scan in messages. Returns a Model whose fit_report "
-      "holds the figures of `mspline fit --json`.");
+      "max_refinements: refinement rounds at most; min_corner_valence: tspline and subd, the "
+      "smallest valence of a cone's corner in the quad layout (2 or 3); progress: None or a "
+      "callable (stage, fraction); name: names the scan in messages. Returns a Model whose "
+      "fit_report holds the figures of `mspline fit --json`.");
   model.def("quality", &quality, py::arg("V"), py::arg("F"),
             "The surface's quality against the scan (V, F) the model was fitted to: the `quality` "
             "object of `mspline check --scan --json` as a dict: distances both ways relative to "

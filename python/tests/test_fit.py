@@ -137,6 +137,8 @@ def test_fit_checks_its_arguments(eight):
         mspline.fit(V, F, kind="nurbs")
     with pytest.raises(TypeError, match="progress"):
         mspline.fit(V, F, progress=3)
+    with pytest.raises(ValueError, match="corner valence must be 2 or 3"):
+        mspline.fit(V, F, min_corner_valence=4)
 
 
 def test_an_invalid_mesh_is_a_value_error_naming_it(eight):

@@ -18,6 +18,8 @@
 #include "mspline/structure/mesh/cap_holes.h"
 #include "mspline/structure/mesh/closest_point.h"
 #include "mspline/structure/mesh/polygon_soup.h"
+#include "mspline/structure/mesh/subdivide.h"
+#include "mspline/structure/ricci/cone_placement.h"
 #include "mspline/structure/topology/topology.h"
 
 namespace mspline::spline {
@@ -92,10 +94,9 @@ TSplineSurfaceCheck checkAgainstScan(SplineModel model, const TMesh& mesh,
   const SurfaceQuality quality = measureQuality(model, surface, fit.controlPoints, &scan, measure);
   const SurfaceDistances& d = quality.distances;
   TSplineSurfaceCheck check;
-  check.distancesWithin =
-      std::max(d.scanToSurface.rms, d.surfaceToScan.rms) <= options.tolerance &&
-      std::max(d.scanToSurface.max, d.surfaceToScan.max) <=
-          options.maxErrorFactor * options.tolerance;
+  check.distancesWithin = std::max(d.scanToSurface.rms, d.surfaceToScan.rms) <= options.tolerance &&
+                          std::max(d.scanToSurface.max, d.surfaceToScan.max) <=
+                              options.maxErrorFactor * options.tolerance;
   check.accepted = check.distancesWithin && quality.folds.total() == 0;
   check.foldCount = quality.folds.total();
   std::vector<FitBasisTerm> terms;
@@ -242,14 +243,29 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
     result.filledHoles = int(capped->caps);
     addStageSeconds(result.stageSeconds, "holes", clock.lap());
   }
-  const TriMesh& mesh = capped ? capped->mesh : scan;
   FlattenOptions flattenOptions = options.flatten;
+  // A coarse polyhedron split at its edge midpoints (the same surface) when its vertices are too
+  // few for the quad layout's cones.
+  std::optional<TriMesh> subdivided;
   if (options.kind != FitKind::TriBSpline) {
+    if (options.minCornerValence < 2 || options.minCornerValence > 3)
+      throw InputError("fit: the smallest corner valence must be 2 or 3, not " +
+                       std::to_string(options.minCornerValence));
     // T-spline knot lines must survive chart changes (quarter-turn cones and holonomy), and a quad
-    // grid needs every cone angle to be at least pi.
+    // layout's corners have valence 4 - k at a cone of k quarter turns.
     flattenOptions.quantize = true;
-    flattenOptions.maxConeQuarterTurns = 2;
+    flattenOptions.maxConeQuarterTurns = 4 - options.minCornerValence;
+    const int levels = midpointLevelsForQuarterTurnCones(capped ? capped->mesh : scan,
+                                                         flattenOptions.maxConeQuarterTurns);
+    result.midpointSubdivisions = levels;
+    for (int level = 0; level < levels; ++level) {
+      if (capped)
+        capped = subdivideMidpoint(*capped);
+      else
+        subdivided = subdivideMidpoint(subdivided ? *subdivided : scan);
+    }
   }
+  const TriMesh& mesh = capped ? capped->mesh : subdivided ? *subdivided : scan;
   const Flattening flattening = flattenSurface(mesh, flattenOptions, progress);
   result.flatten = {flattening.converged, flattening.flow.maxCurvatureError, flattening.flips,
                     int(flattening.cones.size()), flattening.rejectedConeCounts};

@@ -37,7 +37,15 @@ struct FitOptions {
   /// Samples on fill patches (their vertices and points inside their faces) only keep the
   /// surface near the patch where there is no scan: this weight, and they are not measured.
   double fillWeight = 0.01;
-  /// The flattening (fitScan sets quantize and maxConeQuarterTurns = 2 for tspline and subd).
+  /// tspline and subd: the smallest valence of a cone's corner in the quad layout, 2 or 3 (a cone
+  /// of k quarter turns of curvature is a corner of valence 4 - k). 2 puts one cone of angle pi
+  /// at a sharp tip; 3 makes every corner valence 3 or more (a cube's layout is its six faces) but
+  /// splits such a cone into two of angle 3 pi / 2 close together, which stretch the layout and
+  /// fold the fit more today (README: cow, triceratops' tail). A mesh with too few vertices for the
+  /// cones is split at its edge midpoints first (the same surface).
+  int minCornerValence = 2;
+  /// The flattening (fitScan sets quantize and maxConeQuarterTurns = 4 - minCornerValence for
+  /// tspline and subd).
   structure::FlattenOptions flatten;
 };
 
@@ -79,6 +87,9 @@ struct FitResult {
   SurfaceQuality quality;
   /// The scan's holes closed by fill patches (0 for a closed scan).
   int filledHoles = 0;
+  /// Rounds of midpoint subdivision before flattening: a coarse polyhedron has too few vertices
+  /// for a quad layout's cones (4 chi of them; 0 otherwise).
+  int midpointSubdivisions = 0;
   /// The fits made, in order.
   std::vector<FitRound> rounds;
   /// The last fit's parameter correction rounds, smoothing weight (relative), samples where the

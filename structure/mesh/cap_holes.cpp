@@ -10,6 +10,7 @@
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/core/sparse_cholesky.h"
 #include "mspline/structure/mesh/boundary_loops.h"
+#include "mspline/structure/mesh/subdivide.h"
 
 namespace mspline::structure {
 
@@ -191,6 +192,26 @@ CappedSurface capHoles(const TriMesh& mesh, const CapOptions& options) {
   std::fill(result.capFace.begin() + static_cast<std::ptrdiff_t>(mesh.n_faces()),
             result.capFace.end(), 1);
   return result;
+}
+
+CappedSurface subdivideMidpoint(const CappedSurface& capped) {
+  const TriMesh& mesh = capped.mesh;
+  CappedSurface out;
+  out.mesh = subdivideMidpoint(mesh);
+  out.caps = capped.caps;
+  for (const std::size_t length : capped.loopLengths) out.loopLengths.push_back(2 * length);
+  out.capVertex = capped.capVertex;
+  for (const auto e : mesh.edges()) {
+    bool cap = true;
+    for (int side = 0; side < 2; ++side) {
+      const auto face = mesh.face_handle(mesh.halfedge_handle(e, side));
+      cap = cap && face.is_valid() && capped.capFace[std::size_t(face.idx())];
+    }
+    out.capVertex.push_back(cap);
+  }
+  out.capFace.reserve(4 * capped.capFace.size());
+  for (const char cap : capped.capFace) out.capFace.insert(out.capFace.end(), 4, cap);
+  return out;
 }
 
 }  // namespace mspline::structure

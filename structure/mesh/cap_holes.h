@@ -43,4 +43,9 @@ struct CappedSurface {
 /// with fewer than 3 edges, or a boundary vertex on two loops (or twice on one), named by index.
 CappedSurface capHoles(const TriMesh& mesh, const CapOptions& options = {});
 
+/// The capped surface split at its edge midpoints (subdivideMidpoint, structure/mesh/subdivide.h):
+/// a face is a cap face when its parent is, a midpoint is a cap vertex when both faces at its edge
+/// are cap faces, and every loop has twice as many edges.
+CappedSurface subdivideMidpoint(const CappedSurface& capped);
+
 }  // namespace mspline::structure

@@ -6,7 +6,8 @@
 namespace mspline::structure {
 
 /// Returns the subdivided mesh: the old vertices keep their indices 0..V-1, then one new vertex per
-/// edge in edge-index order (vertex V + e sits on edge e). Faces are 4x as many.
+/// edge in edge-index order (vertex V + e sits on edge e). Faces are 4x as many: faces 4f to
+/// 4f + 3 are face f's (its corners, then its centre).
 TriMesh subdivideMidpoint(const TriMesh& mesh);
 
 /// Applies subdivideMidpoint until the mesh has at least `minFaces` faces.

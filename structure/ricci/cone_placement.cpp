@@ -443,4 +443,22 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
   return result;
 }
 
+int midpointLevelsForQuarterTurnCones(const TriMesh& mesh, int maxQuarterTurns) {
+  if (maxQuarterTurns < 1)
+    throw InputError("cone placement: the largest quarter-turn multiple must be at least 1");
+  const TopologyReport topology = analyzeTopology(mesh);
+  if (!topology.closed || topology.euler <= 0 || topology.faces == 0) return 0;
+  const long needed = (4 * topology.euler + maxQuarterTurns - 1) / maxQuarterTurns;
+  // Each round adds a vertex per edge; an edge becomes two and each face adds three.
+  long vertices = long(topology.vertices), edges = long(topology.edges),
+       faces = long(topology.faces);
+  int levels = 0;
+  for (; vertices < needed; ++levels) {
+    vertices += edges;
+    edges = 2 * edges + 3 * faces;
+    faces *= 4;
+  }
+  return levels;
+}
+
 }  // namespace mspline::structure

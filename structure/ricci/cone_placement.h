@@ -48,8 +48,9 @@ struct ConePlacementOptions {
   /// 2 pi - k pi / 2 stays positive (k <= 3).
   bool quantize = false;
   /// With `quantize`: the largest multiple k allowed. 3 (default) lets a cone angle go down to
-  /// pi/2; 2 keeps every angle at least pi, as quad grids need (a cone of angle pi/2 would be a
-  /// vertex of valence one). The curvature cut off goes to other cones by the same rounding.
+  /// pi/2. In a quad layout a cone of k quarter turns is a corner of valence 4 - k: 2 keeps every
+  /// corner's valence at least 2, 1 at least 3. The curvature cut off goes to other cones by the
+  /// same rounding.
   int maxQuarterTurns = 3;
   /// Closed genus >= 2 only (TopologyError otherwise): one cone carrying all of 2 pi chi
   /// (Gu et al. 2008), at the vertex of largest |u| of the cone-free linear solve; `targetCount`
@@ -85,5 +86,12 @@ struct ConePlacementResult {
 /// SolverError when the automatic placement finds no cones that flatten the surface or the
 /// cotangent Laplacian cannot be factorized (e.g. the input's degenerate faces disconnect it).
 ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& options = {});
+
+/// Quantized placement needs a cone, at its own vertex, for every `maxQuarterTurns` of the
+/// 4 chi quarter turns of a closed surface of positive Euler characteristic: a tetrahedron's 4
+/// vertices cannot carry a quad layout's 8 corners. Returns how many rounds of subdivideMidpoint
+/// (structure/mesh/subdivide.h, the same surface) give `mesh` that many vertices: 0 for a mesh
+/// with enough, with a boundary or with chi <= 0.
+int midpointLevelsForQuarterTurnCones(const TriMesh& mesh, int maxQuarterTurns);
 
 }  // namespace mspline::structure

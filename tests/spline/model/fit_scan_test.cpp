@@ -142,6 +142,36 @@ TEST_CASE("fit_scan: a polyhedron whose aligned traces miss a crossing, and a lo
   }
 }
 
+TEST_CASE("fit_scan: corners of valence 3: a cube is its six faces, a tetrahedron is split first",
+          "[spline][slow]") {
+  // The valences of the extraordinary points of the fitted T-mesh (quarter turns around them).
+  const auto valences = [](const spline::FitResult& fit) {
+    std::vector<int> found;
+    const spline::TMesh& tmesh = fit.model.tmesh;
+    for (int v = 0; v < tmesh.numVertices; ++v)
+      if (tmesh.isExtraordinary(v)) found.push_back(tmesh.quarterTurnsAround[std::size_t(v)]);
+    return found;
+  };
+  spline::FitOptions options = fitOptions(spline::FitKind::TSpline, 2000, 3e-3, 2, 3);
+  options.minCornerValence = 3;
+  for (const auto& [name, subdivisions] : {std::pair{"cube.off", 0}, {"tetrahedron.off", 1}}) {
+    INFO(name);
+    const spline::FitResult fit = checkedFit(name, options);
+    CHECK(fit.midpointSubdivisions == subdivisions);
+    CHECK(valences(fit) == std::vector<int>(8, 3));
+    CHECK(fit.grid.traces == 24);
+    const auto& d = fit.quality.distances;
+    CHECK(std::max(d.scanToSurface.max, d.surfaceToScan.max) < 0.02);
+  }
+  // By default a tetrahedron's corners are cones of angle pi, valence 2.
+  options.minCornerValence = 2;
+  const spline::FitResult fit = checkedFit("tetrahedron.off", options);
+  CHECK(fit.midpointSubdivisions == 0);
+  CHECK(valences(fit) == std::vector<int>(4, 2));
+  options.minCornerValence = 4;
+  CHECK_THROWS_AS(spline::fitScan(test::realMesh("cube.off"), options), structure::InputError);
+}
+
 TEST_CASE("fit_scan: a T-spline over filled holes is measured without its fills in every round",
           "[spline][slow]") {
   // The refinement loop measures each fit as the final report does: without the fills, the

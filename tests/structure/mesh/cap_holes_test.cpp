@@ -247,6 +247,29 @@ TEST_CASE("cap_holes: an open cylinder gets two caps", "[structure]") {
   CHECK(capSelfIntersections(capped) == 0);
 }
 
+TEST_CASE("cap_holes: a capped surface split at its edge midpoints keeps its caps apart",
+          "[structure]") {
+  const TriMesh input = test::cylinder(24, 6);
+  const CappedSurface capped = structure::capHoles(input);
+  const CappedSurface split = structure::subdivideMidpoint(capped);
+  CHECK(split.caps == 2);
+  CHECK(split.loopLengths == std::vector<std::size_t>{48, 48});
+  REQUIRE(split.mesh.n_faces() == 4 * capped.mesh.n_faces());
+  REQUIRE(split.capFace.size() == split.mesh.n_faces());
+  REQUIRE(split.capVertex.size() == split.mesh.n_vertices());
+  CHECK(structure::analyzeTopology(split.mesh).euler == 2);
+  // The input's part: its faces split in four, its vertices and one midpoint per input edge.
+  CHECK(std::count(split.capFace.begin(), split.capFace.end(), 0) == long(4 * input.n_faces()));
+  CHECK(std::count(split.capVertex.begin(), split.capVertex.end(), 0) ==
+        long(input.n_vertices() + input.n_edges()));
+  // A vertex of the input's part lies on one of its faces; a cap vertex only on cap faces.
+  for (const auto v : split.mesh.vertices()) {
+    bool onInput = false;
+    for (const auto f : split.mesh.vf_range(v)) onInput = onInput || !split.capFace[f.idx()];
+    CHECK(onInput == !split.capVertex[std::size_t(v.idx())]);
+  }
+}
+
 TEST_CASE("cap_holes: fairing order 2 continues the surface, order 1 spans the loop",
           "[structure]") {
   const TriMesh input = hemisphere(32, 8);

@@ -11,6 +11,7 @@
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/core/index_map.h"
 #include "mspline/structure/mesh/polygon_soup.h"
+#include "mspline/structure/mesh/subdivide.h"
 #include "mspline/structure/ricci/cone_file.h"
 #include "mspline/structure/ricci/cone_placement.h"
 #include "mspline/structure/ricci/curvature_target.h"
@@ -465,6 +466,41 @@ TEST_CASE("cone_placement: coarse polyhedra get a cone at every corner that need
   for (int k : octahedronCones.quarterTurns) turns += k;
   CHECK(turns == 8);
   CHECK(octahedronCones.quarterTurns.size() >= 4);
+}
+
+TEST_CASE("cone_placement: coarse polyhedra split at edge midpoints carry valence-3 corners",
+          "[structure]") {
+  ConePlacementOptions options;
+  options.quantize = true;
+  options.maxQuarterTurns = 1;
+  // Eight cones of one quarter turn: the tetrahedron's 4 vertices need one split (10), the
+  // octahedron's 6 one (18); the cube's 8 are enough.
+  const TriMesh tetrahedron = structure::toTriMesh(test::tetrahedronSoup());
+  const TriMesh octahedron = structure::toTriMesh(test::octahedronSoup());
+  CHECK(structure::midpointLevelsForQuarterTurnCones(tetrahedron, 1) == 1);
+  CHECK(structure::midpointLevelsForQuarterTurnCones(tetrahedron, 2) == 0);
+  CHECK(structure::midpointLevelsForQuarterTurnCones(octahedron, 1) == 1);
+  CHECK(structure::midpointLevelsForQuarterTurnCones(test::cubeSurface(1), 1) == 0);
+  CHECK(structure::midpointLevelsForQuarterTurnCones(test::torus(6, 4), 1) == 0);
+  CHECK(structure::midpointLevelsForQuarterTurnCones(test::gridDisk(1), 1) == 0);
+  CHECK_THROWS_AS(structure::midpointLevelsForQuarterTurnCones(tetrahedron, 0),
+                  structure::InputError);
+  for (const auto& [name, coarse] :
+       {std::pair{"tetrahedron", tetrahedron}, {"octahedron", octahedron}}) {
+    INFO(name);
+    CHECK_THROWS_WITH(structure::placeCones(coarse, options),
+                      Catch::Contains("cannot be quantized"));
+    const TriMesh mesh = structure::subdivideMidpoint(coarse);
+    const auto placement = structure::placeCones(mesh, options);
+    int turns = 0;
+    for (int k : placement.quarterTurns) {
+      CHECK(k <= 1);
+      turns += k;
+    }
+    CHECK(turns == 8);
+    CHECK(std::abs(curvatureSum(placement.cones) - 4 * kPi) <= 1e-12);
+    checkConverged(mesh, flattenChecked(name, mesh, placement));
+  }
 }
 
 TEST_CASE("cone_placement: quantized cones can be kept at angle pi or more", "[structure]") {
