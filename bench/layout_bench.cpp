@@ -117,9 +117,13 @@ Row layOut(const std::string& path, long subdivideTo, int control, int minCorner
     for (int level = 0; level < row.subdivisions; ++level)
       mesh = structure::subdivideMidpoint(mesh);
     stage = "flatten";
+    spline::BuildSplineOptions build;
+    build.kind = spline::SpaceKind::TSpline;
+    build.control = control;
     structure::FlattenOptions flatten;
     flatten.quantize = true;
     flatten.maxConeQuarterTurns = 4 - minCornerValence;
+    if (minCornerValence == 3) flatten.minConeSeparation = spline::cellSideOnSurface(mesh, build);
     const auto start = Clock::now();
     const structure::Flattening flattening = structure::flattenSurface(mesh, flatten);
     row.flattenSeconds = since(start);
@@ -129,9 +133,6 @@ Row layOut(const std::string& path, long subdivideTo, int control, int minCorner
       return row;
     }
     stage = "layout";
-    spline::BuildSplineOptions build;
-    build.kind = spline::SpaceKind::TSpline;
-    build.control = control;
     const spline::SplineSpaceBuild space = spline::buildSpline(flattening, build);
     for (const auto& [name, seconds] : space.stageSeconds)
       if (name == "grid") row.layoutSeconds += seconds;

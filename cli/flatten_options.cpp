@@ -59,7 +59,7 @@ void addCornerValenceOption(CLI::App& sub, int& minCornerValence) {
          "--min-corner-valence", minCornerValence,
          "Quad layout: the smallest valence of a cone's corner, 2 (default: one cone of "
          "angle pi at a sharp tip) or 3 (cones of angle 3 pi / 2 at most; a cube's layout is "
-         "its six faces; fits fold more at tips today)")
+         "its six faces; fits fold more on some organic meshes today)")
       ->check(CLI::Range(2, 3));
 }
 

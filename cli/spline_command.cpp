@@ -109,10 +109,6 @@ void addSplineCommand(CLI::App& app, Command& command) {
       for (int level = 0; level < subdivisions; ++level)
         subdivided = structure::subdivideMidpoint(subdivided ? *subdivided : *loaded.mesh);
       const structure::TriMesh& mesh = subdivided ? *subdivided : *loaded.mesh;
-      const structure::FlattenOptions flattenOptions = toFlattenOptions(a.settings, a.mesh);
-      const structure::Flattening flattening =
-          structure::flattenSurface(mesh, flattenOptions, progress);
-      const Json flat = flatteningJson(flattening, flattenOptions, stages, command);
       spline::BuildSplineOptions options;
       options.kind = tspline ? spline::SpaceKind::TSpline : spline::SpaceKind::TriBSpline;
       options.degree = a.degree;
@@ -120,6 +116,13 @@ void addSplineCommand(CLI::App& app, Command& command) {
       options.cloudRadius = a.cloudRadius;
       options.seed = a.seed;
       options.grid = a.grid;
+      structure::FlattenOptions flattenOptions = toFlattenOptions(a.settings, a.mesh);
+      // Corners closer than a cell make sliver cells.
+      if (tspline && a.minCornerValence == 3)
+        flattenOptions.minConeSeparation = spline::cellSideOnSurface(mesh, options);
+      const structure::Flattening flattening =
+          structure::flattenSurface(mesh, flattenOptions, progress);
+      const Json flat = flatteningJson(flattening, flattenOptions, stages, command);
       spline::SplineSpaceBuild build = spline::buildSpline(flattening, options, progress);
       addStages(stages, build.stageSeconds);
       const spline::ControlPointFit fit = spline::fitControlPoints(build, a.fit, progress);

@@ -232,6 +232,10 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
   FitResult result;
   Stopwatch clock;
   const std::string& name = options.flatten.name;
+  if (options.kind != FitKind::TriBSpline &&
+      (options.minCornerValence < 2 || options.minCornerValence > 3))
+    throw InputError("fit: the smallest corner valence must be 2 or 3, not " +
+                     std::to_string(options.minCornerValence));
   const TopologyReport scanTopology = analyzeTopology(scan);
   // Holes are closed by fill patches: the spline spans them (fairing, no data) and export trims
   // them away again.
@@ -248,9 +252,6 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
   // few for the quad layout's cones.
   std::optional<TriMesh> subdivided;
   if (options.kind != FitKind::TriBSpline) {
-    if (options.minCornerValence < 2 || options.minCornerValence > 3)
-      throw InputError("fit: the smallest corner valence must be 2 or 3, not " +
-                       std::to_string(options.minCornerValence));
     // T-spline knot lines must survive chart changes (quarter-turn cones and holonomy), and a quad
     // layout's corners have valence 4 - k at a cone of k quarter turns.
     flattenOptions.quantize = true;
@@ -266,6 +267,12 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
     }
   }
   const TriMesh& mesh = capped ? capped->mesh : subdivided ? *subdivided : scan;
+  BuildSplineOptions build;
+  build.kind = options.kind == FitKind::TriBSpline ? SpaceKind::TriBSpline : SpaceKind::TSpline;
+  build.control = options.control > 0 ? options.control : options.maxControl * 3 / 4;
+  // Corners closer than a cell make sliver cells.
+  if (options.kind != FitKind::TriBSpline && options.minCornerValence == 3)
+    flattenOptions.minConeSeparation = cellSideOnSurface(mesh, build);
   const Flattening flattening = flattenSurface(mesh, flattenOptions, progress);
   result.flatten = {flattening.converged, flattening.flow.maxCurvatureError, flattening.flips,
                     int(flattening.cones.size()), flattening.rejectedConeCounts};
@@ -286,9 +293,6 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
           flattening.overlay ? flattening.overlay->inputFace[f] : int(f))];
   }
 
-  BuildSplineOptions build;
-  build.kind = options.kind == FitKind::TriBSpline ? SpaceKind::TriBSpline : SpaceKind::TSpline;
-  build.control = options.control > 0 ? options.control : options.maxControl * 3 / 4;
   // The model knows its fills from the start: the T-spline loop measures it against the scan
   // without them (measuring the fills made head's surface-to-scan RMS 0.024 instead of 2.5e-4).
   const auto buildSpace = [&] {

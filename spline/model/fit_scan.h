@@ -44,8 +44,9 @@ struct FitOptions {
   /// fold the fit more today (README: cow, triceratops' tail). A mesh with too few vertices for the
   /// cones is split at its edge midpoints first (the same surface).
   int minCornerValence = 2;
-  /// The flattening (fitScan sets quantize and maxConeQuarterTurns = 4 - minCornerValence for
-  /// tspline and subd).
+  /// The flattening (fitScan sets quantize, maxConeQuarterTurns = 4 - minCornerValence and
+  /// minConeSeparation = one cell, cellSideOnSurface, with valence 3, for tspline and
+  /// subd).
   structure::FlattenOptions flatten;
 };
 

@@ -22,6 +22,7 @@ std::vector<Cone> chooseCones(const TriMesh& mesh, const FlattenOptions& options
   ConePlacementOptions placement;
   placement.quantize = options.quantize;
   placement.maxQuarterTurns = options.maxConeQuarterTurns;
+  placement.minSeparationLength = options.minConeSeparation;
   placement.singleCone = options.singleCone;
   placement.targetCount = options.coneCount;
   return placeCones(mesh, placement).cones;

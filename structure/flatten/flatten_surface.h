@@ -36,6 +36,9 @@ struct FlattenOptions {
   /// Cone curvatures multiples of pi/2 (seamless metrics), at most this many quarter turns.
   bool quantize = false;
   int maxConeQuarterTurns = 3;
+  /// Automatic cones at least this far apart along edges (ConePlacementOptions::
+  /// minSeparationLength); 0: two edges apart.
+  double minConeSeparation = 0.0;
   /// Genus >= 2: all curvature in one cone (placed automatically; `cones` is then ignored).
   bool singleCone = false;
   /// Open surfaces: boundary lengths kept (Free), a circle (Fixed) or a rectangle.

@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <deque>
 #include <limits>
 #include <numeric>
+#include <queue>
 #include <sstream>
 
 #include <Eigen/LU>
@@ -88,25 +88,29 @@ Eigen::VectorXd vertexAreas(const TriMesh& mesh) {
   return area;
 }
 
-// Lowers `distance` (hops from the earlier sources, `limit` or more where farther) to the hops from
-// the nearest of the earlier and the new sources, where that is below `limit`; the search stops
-// where an earlier source is as close or the limit is reached, so each new cone costs only its
-// neighbourhood.
-void addHopSources(const TriMesh& mesh, const std::vector<int>& sources, int limit,
-                   std::vector<int>& distance) {
-  std::deque<int> queue;
+// Lowers `distance` (from the earlier sources, `limit` or more where farther) to the distance
+// from the nearest of the earlier and the new sources, where that is below `limit`: edge hops
+// when `lengths` is empty, else lengths along edges. The search stops where an earlier source is
+// as close or the limit is reached, so each new cone costs only its neighbourhood.
+void addSeparationSources(const TriMesh& mesh, const Eigen::VectorXd& lengths,
+                          const std::vector<int>& sources, double limit,
+                          std::vector<double>& distance) {
+  using Entry = std::pair<double, int>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
   for (int s : sources) {
-    distance[s] = 0;
-    queue.push_back(s);
+    distance[s] = 0.0;
+    queue.push({0.0, s});
   }
   while (!queue.empty()) {
-    const int v = queue.front();
-    queue.pop_front();
-    if (distance[v] + 1 >= limit) continue;
-    for (const auto w : mesh.vv_range(OpenMesh::VertexHandle(v))) {
-      if (distance[w.idx()] > distance[v] + 1) {
-        distance[w.idx()] = distance[v] + 1;
-        queue.push_back(w.idx());
+    const auto [d, v] = queue.top();
+    queue.pop();
+    if (d > distance[v]) continue;
+    for (const auto h : mesh.voh_range(OpenMesh::VertexHandle(v))) {
+      const int w = mesh.to_vertex_handle(h).idx();
+      const double next = d + (lengths.size() ? lengths[mesh.edge_handle(h).idx()] : 1.0);
+      if (next < distance[w] && next < limit) {
+        distance[w] = next;
+        queue.push({next, w});
       }
     }
   }
@@ -246,6 +250,8 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
                         std::to_string(topology.genus) + " and " +
                         std::to_string(topology.boundaryLoops) + " boundary loops");
   }
+  if (options.quantize && (options.maxQuarterTurns < 1 || options.maxQuarterTurns > 3))
+    throw InputError("cone placement: the largest quarter-turn multiple must be 1 to 3");
   if (options.targetCount < -1) {
     throw InputError("cone placement: the target count must be -1 (automatic) or >= 0, not " +
                      std::to_string(options.targetCount));
@@ -312,12 +318,25 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
       return !(options.quantize && closed && chi > 0 &&
                static_cast<long>(cones.size()) * options.maxQuarterTurns < 4 * chi);
     };
-    // Relaxed to 1 (any vertex that is not a cone or on the boundary) when no vertex is farther
+    // Relaxed to 0 (any vertex that is not a cone or on the boundary) when no vertex is farther
     // and the surface still needs cones: on a coarse polyhedron the corners, next to each other,
     // carry all the curvature.
-    int separation = options.minSeparation;
-    std::vector<int> hops(mesh.n_vertices(), std::numeric_limits<int>::max());
-    addHopSources(mesh, boundary, options.minSeparation, hops);
+    Eigen::VectorXd separationLengths;
+    double separationLimit = options.minSeparation;
+    if (options.minSeparationLength > 0.0) {
+      separationLengths = edgeLengths(mesh);
+      separationLimit = options.minSeparationLength;
+    }
+    double separation = separationLimit;
+    std::vector<double> apart(mesh.n_vertices(), std::numeric_limits<double>::infinity());
+    addSeparationSources(mesh, separationLengths, boundary, separationLimit, apart);
+    // Rounding cuts a cone's curvature at maxQuarterTurns quarter turns, so placement does too:
+    // the curvature above the cap stays in the distortion and draws more cones to where it is
+    // (a sharp tip with corners of valence 3 gets several of them, not one that rounding cuts in
+    // half and whose other half lands far away).
+    // Only for corners of valence 3: with valence 2 the cap moved the default layouts' cones and
+    // its fits folded more on some meshes (femur, cow, diplodocus), fewer on others.
+    const double capCurvature = options.quantize && options.maxQuarterTurns == 1 ? kQuarter : 0.0;
     std::string stop;
     for (;;) {
       const double distortion = result.distortionPerRound.back();
@@ -337,11 +356,11 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
       int best = -1;
       for (;;) {
         for (Eigen::Index v = 0; v < n; ++v) {
-          if (hops[v] < separation || pinned[v]) continue;
+          if (apart[v] < separation || pinned[v]) continue;
           if (best < 0 || std::abs(u[v]) > std::abs(u[best])) best = static_cast<int>(v);
         }
-        if (best >= 0 || separation <= 1) break;
-        separation = 1;
+        if (best >= 0 || separation <= 0) break;
+        separation = 0;
       }
       if (best < 0) {
         stop = "no vertex is far enough from the cones and the boundary";
@@ -349,7 +368,7 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
       }
       cones.push_back({best, 0.0});
       pinned[best] = 1;
-      addHopSources(mesh, {best}, options.minSeparation, hops);
+      addSeparationSources(mesh, separationLengths, {best}, separationLimit, apart);
       greenVertices.push_back(best);
       greens.push_back(system.green(best));
 
@@ -361,18 +380,41 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
       // unknown) replaces the gauge u_0 = 0.
       const auto m = static_cast<Eigen::Index>(cones.size());
       const Eigen::Index size = closed ? m + 1 : m;
-      Eigen::MatrixXd capacitance = Eigen::MatrixXd::Zero(size, size);
-      Eigen::VectorXd rhs(size);
-      for (Eigen::Index i = 0; i < m; ++i) {
-        for (Eigen::Index j = 0; j < m; ++j) capacitance(i, j) = greens[j][cones[i].vertex];
-        rhs[i] = -flat[cones[i].vertex];
+      std::vector<char> capped(std::size_t(m), 0);
+      Eigen::VectorXd weights;
+      for (;;) {
+        Eigen::MatrixXd capacitance = Eigen::MatrixXd::Zero(size, size);
+        Eigen::VectorXd rhs(size);
+        for (Eigen::Index i = 0; i < m; ++i) {
+          if (capped[std::size_t(i)]) {
+            capacitance(i, i) = 1.0;
+            rhs[i] = capCurvature;
+            continue;
+          }
+          for (Eigen::Index j = 0; j < m; ++j) capacitance(i, j) = greens[j][cones[i].vertex];
+          if (closed) capacitance(i, m) = 1.0;
+          rhs[i] = -flat[cones[i].vertex];
+        }
+        if (closed) {
+          capacitance.row(m).head(m).setOnes();
+          rhs[m] = inputCurvature.sum();
+        }
+        weights = capacitance.partialPivLu().solve(rhs);
+        if (!(capCurvature > 0.0)) break;
+        // The cone carrying the most curvature above the cap gets the cap as its weight (u is
+        // then free there), one at a time, while another cone stays free to carry the rest
+        // (closed).
+        Eigen::Index worst = -1;
+        long free = 0;
+        for (Eigen::Index i = 0; i < m; ++i) {
+          if (capped[std::size_t(i)]) continue;
+          ++free;
+          if (weights[i] > capCurvature + 1e-9 && (worst < 0 || weights[i] > weights[worst]))
+            worst = i;
+        }
+        if (worst < 0 || (closed && free <= 1)) break;
+        capped[std::size_t(worst)] = 1;
       }
-      if (closed) {
-        capacitance.row(m).head(m).setOnes();
-        capacitance.col(m).head(m).setOnes();
-        rhs[m] = inputCurvature.sum();
-      }
-      const Eigen::VectorXd weights = capacitance.partialPivLu().solve(rhs);
       u = flat;
       for (Eigen::Index j = 0; j < m; ++j) u += weights[j] * greens[j];
       if (closed) u.array() += weights[m];
@@ -388,6 +430,13 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
         for (Cone& c : cones) c.curvature -= excess;
       }
       result.distortionPerRound.push_back(distortionOf(u, closed));
+    }
+    if (!roomToRound()) {
+      failPlacement(options, "cone placement: " + std::to_string(cones.size()) +
+                                 " cones cannot be quantized to " + std::to_string(4 * chi) +
+                                 " quarter turns of at most " +
+                                 std::to_string(options.maxQuarterTurns) + " each (" + stop +
+                                 "); the surface has too few vertices");
     }
     if (!valid()) {
       std::ostringstream msg;
@@ -407,8 +456,6 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
             << " rounds (" << stop << ")";
 
     if (options.quantize && !cones.empty()) {
-      if (options.maxQuarterTurns < 1 || options.maxQuarterTurns > 3)
-        throw InputError("cone placement: the largest quarter-turn multiple must be 1 to 3");
       const int largest = options.maxQuarterTurns;
       std::vector<int> k;
       if (closed) {

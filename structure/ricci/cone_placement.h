@@ -39,8 +39,14 @@ struct ConePlacementOptions {
   /// when no vertex is that far and the surface still needs cones (a coarse polyhedron), any
   /// vertex that is not a cone and not on the boundary.
   int minSeparation = 2;
+  /// When > 0, the separation is measured along edges in the mesh's own lengths instead, and a
+  /// new cone is at least this far from every other cone and from the boundary (a quad layout's
+  /// corners closer than a cell make sliver cells).
+  double minSeparationLength = 0.0;
   /// Round every cone curvature to a multiple k pi / 2 (see ConePlacementResult::quarterTurns).
-  /// Automatic placement then goes on until the cones can carry 2 pi chi in such multiples.
+  /// Automatic placement then goes on until the cones can carry 2 pi chi in such multiples; with
+  /// maxQuarterTurns 1, each round caps a cone's curvature at one quarter turn (the curvature
+  /// above it stays in the distortion, so the next cones go near it).
   /// On closed surfaces the integers sum to exactly 4 chi (largest-remainder rounding); then
   /// quarter turns move between cones (closed) or are added or taken (with a boundary) while that
   /// lowers the area-weighted squared conformal factor of the linear solve, so that the rounding

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <queue>
 
 #include <Eigen/SparseCholesky>
 
@@ -34,6 +36,28 @@ double curvatureSum(const std::vector<Cone>& cones) {
   double sum = 0.0;
   for (const Cone& c : cones) sum += c.curvature;
   return sum;
+}
+
+// The shortest path along edges from `source` to every vertex (3D lengths), by Dijkstra.
+std::vector<double> edgePathDistances(const TriMesh& mesh, int source) {
+  std::vector<double> distance(mesh.n_vertices(), std::numeric_limits<double>::infinity());
+  using Entry = std::pair<double, int>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+  distance[std::size_t(source)] = 0.0;
+  queue.push({0.0, source});
+  while (!queue.empty()) {
+    const auto [d, v] = queue.top();
+    queue.pop();
+    if (d > distance[std::size_t(v)]) continue;
+    for (const auto w : mesh.vv_range(TriMesh::VertexHandle(v))) {
+      const double next = d + (mesh.point(w) - mesh.point(TriMesh::VertexHandle(v))).norm();
+      if (next < distance[std::size_t(w.idx())]) {
+        distance[std::size_t(w.idx())] = next;
+        queue.push({next, w.idx()});
+      }
+    }
+  }
+  return distance;
 }
 
 // Newton on the placed cones, asked for an absolute curvature error of 1e-10; prints the figures
@@ -523,4 +547,57 @@ TEST_CASE("cone_placement: quantized cones can be kept at angle pi or more", "[s
   checkConverged(mesh, flattenChecked("spiked icosphere, angles >= pi", mesh, blunt));
   options.maxQuarterTurns = 4;
   CHECK_THROWS_AS(structure::placeCones(mesh, options), structure::InputError);
+}
+
+TEST_CASE("cone_placement: a spike's curvature above the cap draws more cones to it",
+          "[structure]") {
+  // The spike's tip carries about three quarter turns. With corners of valence 3 (one quarter
+  // turn per cone) it needs three cones or more near the tip; a single cone there, cut to one
+  // quarter turn by rounding, sends the rest across the sphere (and its uncut angle, below pi/4,
+  // made the automatic placement give up).
+  TriMesh spiked = test::icosphere(3);
+  spiked.set_point(spiked.vertex_handle(0), spiked.point(spiked.vertex_handle(0)) * 2.0);
+  const TriMesh mesh = structure::subdivideMidpoint(structure::subdivideMidpoint(spiked));
+  const auto tip = mesh.vertex_handle(0);
+  ConePlacementOptions options;
+  options.quantize = true;
+  options.maxQuarterTurns = 1;
+  const auto placement = structure::placeCones(mesh, options);
+  int turns = 0, turnsNearTip = 0;
+  for (std::size_t i = 0; i < placement.cones.size(); ++i) {
+    CHECK(placement.quarterTurns[i] <= 1);
+    turns += placement.quarterTurns[i];
+    const auto p = mesh.point(mesh.vertex_handle(placement.cones[i].vertex));
+    if ((p - mesh.point(tip)).norm() < 1.0) turnsNearTip += placement.quarterTurns[i];
+  }
+  CHECK(turns == 8);
+  CHECK(turnsNearTip >= 3);
+  CHECK(std::abs(curvatureSum(placement.cones) - 4 * kPi) <= 1e-12);
+  checkConverged(mesh, flattenChecked("spiked icosphere, angles >= 3 pi / 2", mesh, placement));
+}
+
+TEST_CASE("cone_placement: cones kept a length apart along edges", "[structure]") {
+  // The spiked sphere of the case above, twelve cones: two edges apart, two of them are closer
+  // than 0.8 along edges.
+  TriMesh spiked = test::icosphere(3);
+  spiked.set_point(spiked.vertex_handle(0), spiked.point(spiked.vertex_handle(0)) * 2.0);
+  const TriMesh mesh = structure::subdivideMidpoint(structure::subdivideMidpoint(spiked));
+  const auto closest = [&](const structure::ConePlacementResult& placement) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const Cone& a : placement.cones) {
+      const std::vector<double> distance = edgePathDistances(mesh, a.vertex);
+      for (const Cone& b : placement.cones)
+        if (b.vertex != a.vertex) nearest = std::min(nearest, distance[std::size_t(b.vertex)]);
+    }
+    return nearest;
+  };
+  ConePlacementOptions options;
+  options.targetCount = 12;
+  CHECK(closest(structure::placeCones(mesh, options)) < 0.8);
+  options.minSeparationLength = 0.8;
+  const auto apart = structure::placeCones(mesh, options);
+  CHECK(apart.cones.size() == 12);
+  CHECK(closest(apart) >= 0.8);
+  CHECK(std::abs(curvatureSum(apart.cones) - 4 * kPi) <= 1e-12);
+  checkConverged(mesh, flattenChecked("spiked icosphere, cones 0.8 apart", mesh, apart));
 }
