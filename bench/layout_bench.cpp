@@ -32,11 +32,11 @@
 
 #include "mspline/io/load_mesh.h"
 #include "mspline/spline/model/build_spline.h"
+#include "mspline/spline/model/quad_layout_flattening.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/flatten/flatten_surface.h"
 #include "mspline/structure/mesh/cap_holes.h"
 #include "mspline/structure/mesh/subdivide.h"
-#include "mspline/structure/ricci/cone_placement.h"
 #include "mspline/structure/topology/topology.h"
 
 using namespace mspline;
@@ -113,19 +113,17 @@ Row layOut(const std::string& path, long subdivideTo, int control, int minCorner
       row.holes = int(capped.caps);
       mesh = std::move(capped.mesh);
     }
-    row.subdivisions = structure::midpointLevelsForQuarterTurnCones(mesh, 4 - minCornerValence);
-    for (int level = 0; level < row.subdivisions; ++level)
-      mesh = structure::subdivideMidpoint(mesh);
-    stage = "flatten";
     spline::BuildSplineOptions build;
     build.kind = spline::SpaceKind::TSpline;
     build.control = control;
-    structure::FlattenOptions flatten;
-    flatten.quantize = true;
-    flatten.maxConeQuarterTurns = 4 - minCornerValence;
-    if (minCornerValence == 3) flatten.minConeSeparation = spline::cellSideOnSurface(mesh, build);
+    const spline::QuadLayoutFlattening quad =
+        spline::quadLayoutFlattening(mesh, minCornerValence, build);
+    row.subdivisions = quad.midpointSubdivisions;
+    for (int level = 0; level < row.subdivisions; ++level)
+      mesh = structure::subdivideMidpoint(mesh);
+    stage = "flatten";
     const auto start = Clock::now();
-    const structure::Flattening flattening = structure::flattenSurface(mesh, flatten);
+    const structure::Flattening flattening = structure::flattenSurface(mesh, quad.options);
     row.flattenSeconds = since(start);
     row.cones = int(flattening.cones.size());
     if (!flattening.converged) {

@@ -75,7 +75,6 @@ FlattenOptions toFlattenOptions(const FlattenSettings& settings, const std::stri
                    : settings.scheme == "inversive" ? MetricScheme::Inversive
                                                     : MetricScheme::Yamabe;
   options.quantize = settings.quantize;
-  options.maxConeQuarterTurns = settings.maxConeQuarterTurns;
   options.singleCone = settings.singleCone;
   options.boundary = settings.boundary == "fixed"       ? BoundaryShape::Fixed
                      : settings.boundary == "rectangle" ? BoundaryShape::Rectangle

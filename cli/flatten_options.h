@@ -13,8 +13,6 @@ struct FlattenSettings {
   std::string scheme = "yamabe";
   std::string cones = "auto";
   bool quantize = false;
-  /// With quantize: the largest cone curvature in quarter turns (ConePlacementOptions).
-  int maxConeQuarterTurns = 3;
   bool singleCone = false;
   std::string boundary = "free";
   double tolerance = 1e-10;

@@ -10,11 +10,11 @@
 #include "mspline/io/load_mesh.h"
 #include "mspline/io/spline_model_file.h"
 #include "mspline/spline/model/build_spline.h"
+#include "mspline/spline/model/quad_layout_flattening.h"
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/core/stopwatch.h"
 #include "mspline/structure/mesh/bounding_box.h"
 #include "mspline/structure/mesh/subdivide.h"
-#include "mspline/structure/ricci/cone_placement.h"
 #include "mspline/structure/topology/topology.h"
 
 namespace mspline::cli {
@@ -79,12 +79,6 @@ void addSplineCommand(CLI::App& app, Command& command) {
   sub->callback([&command, arguments] {
     command.name = "spline";
     command.files = {arguments->mesh, arguments->output, coneFile(arguments->settings)};
-    // T-spline knot lines must survive chart changes: quarter-turn cones and holonomy.
-    // A quad layout's corner has valence 4 - k at a cone of k quarter turns.
-    if (arguments->kind == "tspline") {
-      arguments->settings.quantize = true;
-      arguments->settings.maxConeQuarterTurns = 4 - arguments->minCornerValence;
-    }
     command.run = [&command, arguments] {
       const SplineArguments& a = *arguments;
       const auto progress = [&](const std::string& line, double) {
@@ -99,16 +93,7 @@ void addSplineCommand(CLI::App& app, Command& command) {
       if (!topology.closed)
         throw structure::InputError(a.mesh + ": spline needs a closed surface; this one has " +
                                     std::to_string(topology.boundaryLoops) + " boundary loops");
-      // A coarse polyhedron split at its edge midpoints (the same surface) when its vertices are
-      // too few for the quad layout's cones.
       const bool tspline = a.kind == "tspline";
-      const int subdivisions = tspline ? structure::midpointLevelsForQuarterTurnCones(
-                                             *loaded.mesh, a.settings.maxConeQuarterTurns)
-                                       : 0;
-      std::optional<structure::TriMesh> subdivided;
-      for (int level = 0; level < subdivisions; ++level)
-        subdivided = structure::subdivideMidpoint(subdivided ? *subdivided : *loaded.mesh);
-      const structure::TriMesh& mesh = subdivided ? *subdivided : *loaded.mesh;
       spline::BuildSplineOptions options;
       options.kind = tspline ? spline::SpaceKind::TSpline : spline::SpaceKind::TriBSpline;
       options.degree = a.degree;
@@ -117,9 +102,19 @@ void addSplineCommand(CLI::App& app, Command& command) {
       options.seed = a.seed;
       options.grid = a.grid;
       structure::FlattenOptions flattenOptions = toFlattenOptions(a.settings, a.mesh);
-      // Corners closer than a cell make sliver cells.
-      if (tspline && a.minCornerValence == 3)
-        flattenOptions.minConeSeparation = spline::cellSideOnSurface(mesh, options);
+      // A coarse polyhedron is split at its edge midpoints (the same surface) when its vertices
+      // are too few for the quad layout's cones.
+      std::optional<structure::TriMesh> subdivided;
+      int subdivisions = 0;
+      if (tspline) {
+        const spline::QuadLayoutFlattening quad =
+            spline::quadLayoutFlattening(*loaded.mesh, a.minCornerValence, options, flattenOptions);
+        flattenOptions = quad.options;
+        subdivisions = quad.midpointSubdivisions;
+        for (int level = 0; level < subdivisions; ++level)
+          subdivided = structure::subdivideMidpoint(subdivided ? *subdivided : *loaded.mesh);
+      }
+      const structure::TriMesh& mesh = subdivided ? *subdivided : *loaded.mesh;
       const structure::Flattening flattening =
           structure::flattenSurface(mesh, flattenOptions, progress);
       const Json flat = flatteningJson(flattening, flattenOptions, stages, command);

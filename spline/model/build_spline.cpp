@@ -242,13 +242,6 @@ void addStageSeconds(StageSeconds& stages, const std::string& name, double secon
     stage->second += seconds;
 }
 
-double cellSideOnSurface(const TriMesh& mesh, const BuildSplineOptions& options) {
-  double area = 0.0;
-  for (const auto f : mesh.faces()) area += mesh.calc_face_area(f);
-  return options.grid > 0.0 ? options.grid * std::sqrt(area)
-                            : std::sqrt(area / double(std::max(options.control, 1)));
-}
-
 SplineSpaceBuild buildSpline(const Flattening& flattening, const BuildSplineOptions& options,
                              const Progress& progress) {
   if (!flattening.converged)

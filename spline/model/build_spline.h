@@ -112,11 +112,6 @@ struct SplineSpaceBuild {
   StageSeconds stageSeconds;
 };
 
-/// The side of the grid cells `options` ask for, in `mesh`'s own lengths: `grid` times the square
-/// root of its area, or `control` square cells covering it. Cones are placed that far apart
-/// (structure::FlattenOptions::minConeSeparation), before the flat metric that sets the cells.
-double cellSideOnSurface(const structure::TriMesh& mesh, const BuildSplineOptions& options);
-
 /// Builds the space of `options.kind` on the flattened closed surface. Throws InputError when the
 /// flattening did not converge, InputError / SolverError when the grid or domain cannot be built.
 SplineSpaceBuild buildSpline(const structure::Flattening& flattening,

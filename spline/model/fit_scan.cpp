@@ -7,6 +7,7 @@
 
 #include "mspline/spline/fitting/surface_fit.h"
 #include "mspline/spline/model/model_surface.h"
+#include "mspline/spline/model/quad_layout_flattening.h"
 #include "mspline/spline/quality/surface_quality.h"
 #include "mspline/spline/subd/subd_fit_space.h"
 #include "mspline/spline/tribspline/tri_bspline.h"
@@ -19,7 +20,6 @@
 #include "mspline/structure/mesh/closest_point.h"
 #include "mspline/structure/mesh/polygon_soup.h"
 #include "mspline/structure/mesh/subdivide.h"
-#include "mspline/structure/ricci/cone_placement.h"
 #include "mspline/structure/topology/topology.h"
 
 namespace mspline::spline {
@@ -232,10 +232,6 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
   FitResult result;
   Stopwatch clock;
   const std::string& name = options.flatten.name;
-  if (options.kind != FitKind::TriBSpline &&
-      (options.minCornerValence < 2 || options.minCornerValence > 3))
-    throw InputError("fit: the smallest corner valence must be 2 or 3, not " +
-                     std::to_string(options.minCornerValence));
   const TopologyReport scanTopology = analyzeTopology(scan);
   // Holes are closed by fill patches: the spline spans them (fairing, no data) and export trims
   // them away again.
@@ -247,19 +243,19 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
     result.filledHoles = int(capped->caps);
     addStageSeconds(result.stageSeconds, "holes", clock.lap());
   }
+  BuildSplineOptions build;
+  build.kind = options.kind == FitKind::TriBSpline ? SpaceKind::TriBSpline : SpaceKind::TSpline;
+  build.control = options.control > 0 ? options.control : options.maxControl * 3 / 4;
   FlattenOptions flattenOptions = options.flatten;
   // A coarse polyhedron split at its edge midpoints (the same surface) when its vertices are too
   // few for the quad layout's cones.
   std::optional<TriMesh> subdivided;
   if (options.kind != FitKind::TriBSpline) {
-    // T-spline knot lines must survive chart changes (quarter-turn cones and holonomy), and a quad
-    // layout's corners have valence 4 - k at a cone of k quarter turns.
-    flattenOptions.quantize = true;
-    flattenOptions.maxConeQuarterTurns = 4 - options.minCornerValence;
-    const int levels = midpointLevelsForQuarterTurnCones(capped ? capped->mesh : scan,
-                                                         flattenOptions.maxConeQuarterTurns);
-    result.midpointSubdivisions = levels;
-    for (int level = 0; level < levels; ++level) {
+    const QuadLayoutFlattening quad = quadLayoutFlattening(
+        capped ? capped->mesh : scan, options.minCornerValence, build, flattenOptions);
+    flattenOptions = quad.options;
+    result.midpointSubdivisions = quad.midpointSubdivisions;
+    for (int level = 0; level < quad.midpointSubdivisions; ++level) {
       if (capped)
         capped = subdivideMidpoint(*capped);
       else
@@ -267,12 +263,6 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
     }
   }
   const TriMesh& mesh = capped ? capped->mesh : subdivided ? *subdivided : scan;
-  BuildSplineOptions build;
-  build.kind = options.kind == FitKind::TriBSpline ? SpaceKind::TriBSpline : SpaceKind::TSpline;
-  build.control = options.control > 0 ? options.control : options.maxControl * 3 / 4;
-  // Corners closer than a cell make sliver cells.
-  if (options.kind != FitKind::TriBSpline && options.minCornerValence == 3)
-    flattenOptions.minConeSeparation = cellSideOnSurface(mesh, build);
   const Flattening flattening = flattenSurface(mesh, flattenOptions, progress);
   result.flatten = {flattening.converged, flattening.flow.maxCurvatureError, flattening.flips,
                     int(flattening.cones.size()), flattening.rejectedConeCounts};
