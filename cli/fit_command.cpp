@@ -185,7 +185,9 @@ void addFitCommand(CLI::App& app, Command& command) {
                     {"max_curvature_error", fit.flatten.maxCurvatureError},
                     {"flips", fit.flatten.flips},
                     {"cones", fit.flatten.cones},
-                    {"rejected_cone_counts", fit.flatten.rejectedConeCounts}}},
+                    {"rejected_cone_counts", fit.flatten.rejectedConeCounts},
+                    {"cone_placement", fit.flatten.conePlacement},
+                    {"reached_max_cones", fit.flatten.reachedMaxCones}}},
                   {"quality", Json::parse(io::qualityJson(fit.quality))},
                   {"seconds", total.lap()},
                   {"stage_seconds", stages}};

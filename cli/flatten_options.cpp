@@ -107,7 +107,9 @@ Json flatteningJson(const Flattening& flattening, const FlattenOptions& options,
               {"scheme", metricSchemeName(options.scheme)},
               {"cones", cones},
               {"flips", flattening.flips},
-              {"rejected_cone_counts", flattening.rejectedConeCounts}};
+              {"rejected_cone_counts", flattening.rejectedConeCounts},
+              {"cone_placement", flattening.conePlacement},
+              {"reached_max_cones", flattening.reachedMaxCones}};
   if (flattening.plainSolve) {
     report["plain_solver"] = {{"message", flattening.plainSolve->message},
                               {"iterations", flattening.plainSolve->iterations}};

@@ -153,7 +153,10 @@ void addSplineCommand(CLI::App& app, Command& command) {
                          {tspline ? "sites_in_holes" : "sites_at_cones", fit.samplesOutside}});
       Json flatten{{"converged", flat["converged"]},
                    {"max_curvature_error", flat["max_curvature_error"]},
-                   {"flips", flat["flips"]}};
+                   {"flips", flat["flips"]},
+                   {"cones", flattening.cones.size()},
+                   {"cone_placement", flat["cone_placement"]},
+                   {"reached_max_cones", flat["reached_max_cones"]}};
       if (tspline) flatten["holonomy"] = flat.contains("holonomy") ? flat["holonomy"] : Json();
       report.update(Json{{"flatten", flatten}, {"seconds", total}, {"stage_seconds", stages}});
       if (command.json) {

@@ -79,6 +79,8 @@ py::dict fitReport(const spline::FitResult& result, const spline::FitOptions& op
   flatten["flips"] = result.flatten.flips;
   flatten["cones"] = result.flatten.cones;
   flatten["rejected_cone_counts"] = result.flatten.rejectedConeCounts;
+  flatten["cone_placement"] = result.flatten.conePlacement;
+  flatten["reached_max_cones"] = result.flatten.reachedMaxCones;
   report["flatten"] = flatten;
   report["warnings"] = result.warnings;
   py::dict seconds;

@@ -65,6 +65,8 @@ py::dict flatteningDict(const structure::Flattening& flattening) {
   out["uvs"] = uvs;
   out["cones"] = cones;
   out["rejected_cone_counts"] = flattening.rejectedConeCounts;
+  out["cone_placement"] = flattening.conePlacement;
+  out["reached_max_cones"] = flattening.reachedMaxCones;
   out["converged"] = flattening.converged;
   out["message"] = flattening.message;
   out["iterations"] = flattening.flow.iterations;

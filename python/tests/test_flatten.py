@@ -64,6 +64,7 @@ def test_flatten_reports_progress(flat_eight):
 def test_a_torus_flattens_without_cones(data_dir):
     flat = mspline.flatten(*mspline.read_mesh(data_dir / "knot1.off"), cones=[])
     assert flat["converged"] is True and flat["cones"] == []
+    assert flat["cone_placement"] == "" and flat["reached_max_cones"] is False
 
 
 def test_automatic_cones_are_placed_again_where_handles_cannot_be_quantized(data_dir):
@@ -72,6 +73,9 @@ def test_automatic_cones_are_placed_again_where_handles_cannot_be_quantized(data
     assert flat["converged"] is True
     assert flat["rejected_cone_counts"] and flat["rejected_cone_counts"][0] == 8
     assert len(flat["cones"]) not in flat["rejected_cone_counts"]
+    # The set kept was asked for by count.
+    assert "reached the requested count" in flat["cone_placement"]
+    assert flat["reached_max_cones"] is False
 
 
 def test_flatten_checks_its_arguments(eight):

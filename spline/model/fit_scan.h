@@ -77,6 +77,10 @@ struct FitFlattenFigures {
   /// (Flattening::rejectedConeCounts).
   int cones = 0;
   std::vector<int> rejectedConeCounts;
+  /// The automatic placement's outcome, and whether it stopped at its maximum number of cones
+  /// (Flattening::conePlacement, reachedMaxCones; then FitResult::warnings says so).
+  std::string conePlacement;
+  bool reachedMaxCones = false;
 };
 
 struct FitResult {

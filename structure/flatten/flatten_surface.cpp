@@ -17,15 +17,20 @@ namespace mspline::structure {
 
 namespace {
 
-std::vector<Cone> chooseCones(const TriMesh& mesh, const FlattenOptions& options) {
-  if (options.cones && !options.singleCone) return *options.cones;
+// The cones given, or the automatic placement's (its outcome in `message`).
+ConePlacementResult chooseCones(const TriMesh& mesh, const FlattenOptions& options) {
+  if (options.cones && !options.singleCone) {
+    ConePlacementResult given;
+    given.cones = *options.cones;
+    return given;
+  }
   ConePlacementOptions placement;
   placement.quantize = options.quantize;
   placement.maxQuarterTurns = options.maxConeQuarterTurns;
   placement.minSeparationLength = options.minConeSeparation;
   placement.singleCone = options.singleCone;
   placement.targetCount = options.coneCount;
-  return placeCones(mesh, placement).cones;
+  return placeCones(mesh, placement);
 }
 
 // Geodesic curvatures for a disk whose boundary is prescribed: a circle (curvature spread by
@@ -137,13 +142,19 @@ namespace {
 
 // One flattening with the given cones; `clock` started before the cones were chosen.
 Flattening flattenWithCones(const TriMesh& mesh, const FlattenOptions& options,
-                            std::vector<Cone> chosen, Stopwatch& clock, const Progress& progress) {
+                            ConePlacementResult chosen, Stopwatch& clock,
+                            const Progress& progress) {
   const std::string named = options.name.empty() ? "" : options.name + ": ";
   Flattening out;
   out.input = &mesh;
-  out.cones = std::move(chosen);
+  out.cones = std::move(chosen.cones);
+  out.conePlacement = std::move(chosen.message);
+  out.reachedMaxCones = chosen.reachedMaxCones;
   const std::vector<Cone>& cones = out.cones;
   out.stageSeconds.emplace_back("cones", clock.lap());
+  if (out.reachedMaxCones)
+    report(progress, "warning: cone placement stopped at its maximum number of cones (" +
+                         out.conePlacement + ")");
   const auto topology = analyzeTopology(mesh);
   BoundaryCondition condition = BoundaryCondition::FixedScale;
   std::vector<Cone> targets = cones;
@@ -267,12 +278,13 @@ Flattening flattenSurface(const TriMesh& mesh, const FlattenOptions& options,
     if (int(tried.size()) == kMaxConeSets) break;
     FlattenOptions retry = options;
     retry.coneCount = count;
-    std::vector<Cone> cones;
+    ConePlacementResult placement;
     try {
-      cones = chooseCones(mesh, retry);
+      placement = chooseCones(mesh, retry);
     } catch (const InputError&) {
       continue;  // a cone angle would come out too small for this count
     }
+    const std::vector<Cone>& cones = placement.cones;
     if (std::any_of(tried.begin(), tried.end(),
                     [&](const std::vector<Cone>& other) { return sameCones(cones, other); }))
       continue;
@@ -283,7 +295,7 @@ Flattening flattenSurface(const TriMesh& mesh, const FlattenOptions& options,
     const int placed = int(cones.size());
     Flattening candidate;
     try {
-      candidate = flattenWithCones(mesh, retry, std::move(cones), clock, progress);
+      candidate = flattenWithCones(mesh, retry, std::move(placement), clock, progress);
     } catch (const Error& error) {
       // Another cone set is only a chance; the first set's result and message stand.
       report(progress, std::string("that failed: ") + error.what());

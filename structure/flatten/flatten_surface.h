@@ -54,6 +54,11 @@ struct FlattenOptions {
 struct Flattening {
   /// The cones asked for (interior; boundary shapes are not listed).
   std::vector<Cone> cones;
+  /// Automatic cones: the placement's outcome in one line (ConePlacementResult::message), and
+  /// whether it stopped at its maximum number of cones with the metric still stretching more
+  /// than asked (a warning: the flattening is valid). Empty and false for cones given.
+  std::string conePlacement;
+  bool reachedMaxCones = false;
   /// The solve; u has one entry per input vertex.
   RicciResult flow;
   /// The common subdivision when intrinsic flips were needed (then it is the surface laid out).

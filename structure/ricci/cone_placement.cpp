@@ -350,6 +350,7 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
         break;
       } else if (static_cast<int>(cones.size()) >= options.maxCones) {
         stop = "reached the maximum number of cones";
+        result.reachedMaxCones = true;
         break;
       }
 

@@ -82,6 +82,9 @@ struct ConePlacementResult {
   /// That linear solution, per vertex (mean zero on closed surfaces); a cheap predictor of the
   /// Newton solution's scale factors.
   Eigen::VectorXd u;
+  /// Automatic placement stopped at maxCones while the distortion was still above
+  /// maxDistortion: the cones flatten the surface, but its metric stretches more than asked.
+  bool reachedMaxCones = false;
   /// One line describing the outcome (number of cones, rounds, why it stopped).
   std::string message;
 };

@@ -199,3 +199,20 @@ TEST_CASE("flatten_surface: degenerate input triangles go on with intrinsic flip
   for (const auto& [name, seconds] : flat.stageSeconds) stages.push_back(name);
   CHECK(stages == std::vector<std::string>{"cones", "ricci_flow", "ricci_flow_flips", "layout"});
 }
+
+TEST_CASE("flatten_surface: the outcome of automatic cone placement is kept with the flattening",
+          "[structure]") {
+  const TriMesh mesh = test::icosphere(3);
+  const Flattening automatic = structure::flattenSurface(mesh);
+  REQUIRE(automatic.converged);
+  CHECK_THAT(automatic.conePlacement,
+             Catch::StartsWith(std::to_string(automatic.cones.size()) + " cones after"));
+  CHECK_FALSE(automatic.reachedMaxCones);
+  // Cones given: there was no placement.
+  FlattenOptions given;
+  given.cones = automatic.cones;
+  const Flattening same = structure::flattenSurface(mesh, given);
+  REQUIRE(same.converged);
+  CHECK(same.conePlacement.empty());
+  CHECK_FALSE(same.reachedMaxCones);
+}

@@ -119,6 +119,22 @@ TEST_CASE("cone_placement: icosphere, automatic cones flatten it", "[structure]"
   checkConverged(mesh, flattenChecked("icosphere(3)", mesh, placement));
 }
 
+TEST_CASE("cone_placement: a placement stopped at the maximum number of cones says so",
+          "[structure]") {
+  const TriMesh mesh = test::icosphere(3);
+  CHECK_FALSE(structure::placeCones(mesh).reachedMaxCones);
+  // A distortion no six cones reach: placement stops at six, valid, and reports it.
+  ConePlacementOptions options;
+  options.maxDistortion = 1e-3;
+  options.maxCones = 6;
+  const auto placement = structure::placeCones(mesh, options);
+  CHECK(placement.reachedMaxCones);
+  CHECK(placement.cones.size() == 6);
+  CHECK(placement.distortionPerRound.back() > options.maxDistortion);
+  CHECK_THAT(placement.message, Catch::Contains("reached the maximum number of cones"));
+  CHECK(std::abs(curvatureSum(placement.cones) - 4 * kPi) <= 1e-12);
+}
+
 TEST_CASE("cone_placement: icosphere, quantized cones are quarter turns", "[structure]") {
   const TriMesh mesh = test::icosphere(3);
   ConePlacementOptions options;
