@@ -80,7 +80,8 @@ struct Trace {
   int endNode = -1;
   // Stopped at this mesh vertex, waiting for the traces that reach it at the same arc length.
   int atVertex = -1;
-  double back = 0.0;  // its way back there, as an angle around the vertex
+  double back = 0.0;   // its way back there, as an angle around the vertex
+  double start = 0.0;  // the angle around its cone at which it leaves
 };
 
 // A mesh vertex that traces reach: where the first trace went through it (going on at angle
@@ -478,7 +479,8 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
       Trace trace;
       trace.coneNode = node;
       trace.coneIndex = j;
-      leave(sectors, firstAxis + j * kQuarter, trace);
+      trace.start = firstAxis + j * kQuarter;
+      leave(sectors, trace.start, trace);
       d.traces.push_back(trace);
     }
   }
@@ -569,6 +571,35 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
     for (int m : group)
       if (m != t) joinOwner(m);
   };
+  // The trace of the cone at corner `corner` of the tip's face that leaves back along the line of
+  // `trace` and has not left yet, when the trace reaches that cone within rounding (at `reach`
+  // along its direction); else -1.
+  const auto coneTraceBack = [&](const Trace& trace, int corner, double reach) {
+    if (corner < 0) return -1;
+    const FaceGeometry& face = d.faces[std::size_t(trace.face)];
+    const int v = face.vertex[std::size_t(corner)];
+    const int node = vertexNode[std::size_t(v)];
+    if (node < 0) return -1;
+    const Eigen::Vector2d toCone = face.corner[std::size_t(corner)] - trace.tip;
+    if (std::abs(cross(trace.direction, toCone)) > 1e-6 * d.scale ||
+        std::abs(toCone.norm() - reach) > 1e-6 * d.scale)
+      return -1;
+    const Eigen::Vector2d side =
+        face.corner[std::size_t((corner + 1) % 3)] - face.corner[std::size_t(corner)];
+    double back = -1.0;
+    for (const Sector& sector : sectorsAround(v))
+      if (sector.face == trace.face && sector.corner == corner)
+        back = sector.before +
+               std::clamp(std::atan2(cross(side, -toCone), side.dot(-toCone)), 0.0, sector.angle);
+    const double total = angleSum[std::size_t(v)];
+    for (std::size_t m = 0; m < d.traces.size(); ++m) {
+      const Trace& other = d.traces[m];
+      if (other.coneNode != node || !other.running || other.length != 0.0) continue;
+      const double apart = std::abs(std::remainder(other.start - back, total));
+      if (apart <= 1e-6) return int(m);
+    }
+    return -1;
+  };
   while (!queue.empty()) {
     const int t = queue.top().second;
     queue.pop();
@@ -620,6 +651,30 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
         trace.length += meet;
         trace.joinTrace = partner.joinTrace >= 0 ? partner.joinTrace : partnerIndex;
         trace.endSlot = (partner.endSlot + 2) % 4;
+        trace.running = false;
+        continue;
+      }
+    }
+    // Aimed exactly at a cone whose trace back along the same line has not left yet (a box's
+    // edges: both cross the face in one step, so neither has a piece the other could meet): they
+    // meet head-on where their arc lengths agree, unless a crossing comes first or there (then
+    // this trace ends on it, and the cone's trace meets this one head-on when it leaves).
+    if (const int partnerIndex = coneTraceBack(trace, corner, exit.t); partnerIndex >= 0) {
+      const FaceGeometry& face = d.faces[std::size_t(trace.face)];
+      const Eigen::Vector2d cone = face.corner[std::size_t(corner)];
+      const double distance = (cone - trace.tip).norm();
+      const double meet = 0.5 * (distance - trace.length);
+      if (meet >= 0.0 && (hit.t < 0.0 || meet < hit.t - 1e-6 * d.scale)) {
+        const Eigen::Vector2d end = trace.tip + meet * (cone - trace.tip) / distance;
+        Trace& partner = d.traces[std::size_t(partnerIndex)];
+        partner.length = distance - meet;
+        partner.running = false;
+        partner.endSlot = 0;
+        d.addPiece(trace.face, partnerIndex, cone, end, 0.0, partner.length);
+        d.addPiece(trace.face, t, trace.tip, end, trace.length, trace.length + meet);
+        trace.length += meet;
+        trace.joinTrace = partnerIndex;
+        trace.endSlot = 2;
         trace.running = false;
         continue;
       }

@@ -1,7 +1,9 @@
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "mspline/structure/core/constants.h"
@@ -223,6 +225,39 @@ TEST_CASE("motorcycle_layout: a trace along a mesh edge is met from both sides",
         }
     CHECK(sameRectangle > pairs * 3 / 4);
   }
+}
+
+TEST_CASE("motorcycle_layout: a box with a cone at each corner is its six faces", "[structure]") {
+  // beam.off (0.4 x 0.4 x 3.6, twelve triangles) in its own metric: eight cones of angle 3 pi / 2.
+  // Each edge carries two traces, one from each corner, which cross the edge's face in one step
+  // and meet head-on half-way. When the first one ran on into the other's cone before that one
+  // had left, two nodes coincided and the layout was traced again with a turned field, whose
+  // rectangles cut the faces at an angle (and the beam's fits rippled along its edges).
+  const structure::TriMesh mesh = test::realMesh("beam.off");
+  test::FlatMetric flat{mesh, Eigen::VectorXd(mesh.n_edges())};
+  for (const auto e : mesh.edges()) flat.lengths[e.idx()] = mesh.calc_edge_length(e);
+  const MotorcycleLayout layout(flat.surface, flat.lengths);
+  checkTiling(flat, layout, 1e-12);
+  CHECK(layout.numTraces() == 24);
+  REQUIRE(layout.rectangles().size() == 6);
+  std::vector<std::pair<double, double>> sides;
+  for (const auto& r : layout.rectangles()) {
+    sides.emplace_back(std::min(r.width(), r.height()), std::max(r.width(), r.height()));
+  }
+  std::sort(sides.begin(), sides.end(),
+            [](const auto& a, const auto& b) { return a.second < b.second; });
+  for (std::size_t k = 0; k < 6; ++k) {
+    CHECK(sides[k].first == Approx(0.4).epsilon(1e-12));
+    CHECK(sides[k].second == Approx(k < 2 ? 0.4 : 3.6).epsilon(1e-12));
+  }
+  // Twelve nodes half-way along the edges, where two traces met head-on.
+  const std::vector<int> degree = nodeDegrees(layout);
+  REQUIRE(layout.nodes().size() == 20);
+  for (std::size_t n = 0; n < degree.size(); ++n)
+    CHECK(degree[n] == (layout.nodes()[n].vertex >= 0 ? 3 : 2));
+  for (const auto& segment : layout.segments())
+    CHECK((segment.length() == Approx(0.2).epsilon(1e-12) ||
+           segment.length() == Approx(1.8).epsilon(1e-12)));
 }
 
 TEST_CASE(
