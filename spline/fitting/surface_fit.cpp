@@ -1,6 +1,7 @@
 #include "mspline/spline/fitting/surface_fit.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -175,9 +176,9 @@ Solve solveAt(const FitSpace& space, const std::vector<FacePoint>& parameters,
     // errors level off (data a spline reproduces, such as a box's faces), a weight near
     // interpolation predicts no better, and the parameter correction after it unsettles it (beam:
     // 1e-7 held out 2 % better than 1e-3, and its corrected fit folded 19,958 times, 1e-3 none).
+    const std::array<double, 7> candidates = {1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7};
     std::vector<double> errors;
-    for (int exponent = 1; exponent <= 7; ++exponent) {
-      const double candidate = std::pow(10.0, -exponent);
+    for (const double candidate : candidates) {
       const Eigen::MatrixXd control =
           solveNormal(cholesky, system(trainNormal, candidate, lambda), trainRhs + pull * guess);
       errors.push_back((test * control - testTargets).norm());
@@ -187,7 +188,7 @@ Solve solveAt(const FitSpace& space, const std::vector<FacePoint>& parameters,
         *least + std::min(kHoldOutTolerance * *least, kHoldOutRangeFraction * (*most - *least));
     const auto chosen =
         std::find_if(errors.begin(), errors.end(), [&](double error) { return error <= bound; });
-    solve.smoothing = std::pow(10.0, -1 - int(chosen - errors.begin()));
+    solve.smoothing = candidates[std::size_t(chosen - errors.begin())];
   }
   const Eigen::SparseMatrix<double> normal = design.transpose() * design;
   const Eigen::SparseMatrix<double> matrix = system(normal, solve.smoothing, solve.lambda);

@@ -268,11 +268,6 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
       flattening.converged,         flattening.flow.maxCurvatureError, flattening.flips,
       int(flattening.cones.size()), flattening.rejectedConeCounts,     flattening.conePlacement,
       flattening.reachedMaxCones};
-  if (flattening.reachedMaxCones)
-    result.warnings.push_back(
-        "cone placement stopped at its maximum number of cones with the "
-        "metric still stretching more than asked (" +
-        flattening.conePlacement + "): the layout's cells may stretch");
   for (const auto& [stage, seconds] : flattening.stageSeconds)
     addStageSeconds(result.stageSeconds, stage, seconds);
   addStageSeconds(result.stageSeconds, "atlas", clock.lap());

@@ -78,7 +78,7 @@ struct FitFlattenFigures {
   int cones = 0;
   std::vector<int> rejectedConeCounts;
   /// The automatic placement's outcome, and whether it stopped at its maximum number of cones
-  /// (Flattening::conePlacement, reachedMaxCones; then FitResult::warnings says so).
+  /// (Flattening::conePlacement, reachedMaxCones; the flattening's progress warns of it).
   std::string conePlacement;
   bool reachedMaxCones = false;
 };

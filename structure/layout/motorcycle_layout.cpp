@@ -439,6 +439,19 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
     } while (h != first);
     return sectors;
   };
+  // The angle around `vertex` (from its first sector) of `direction` leaving it in face `face`, at
+  // the face's corner `corner`.
+  const auto angleAround = [&](int vertex, int face, int corner, const Eigen::Vector2d& direction) {
+    const FaceGeometry& geometry = d.faces[std::size_t(face)];
+    const Eigen::Vector2d side =
+        geometry.corner[std::size_t((corner + 1) % 3)] - geometry.corner[std::size_t(corner)];
+    for (const Sector& sector : sectorsAround(vertex))
+      if (sector.face == face && sector.corner == corner)
+        return sector.before + std::clamp(std::atan2(cross(side, direction), side.dot(direction)),
+                                          0.0, sector.angle);
+    throw SolverError("motorcycle layout: face " + std::to_string(face) + " is not around vertex " +
+                      std::to_string(vertex));
+  };
   // A trace leaving the vertex at angle `at` around it starts from the sector holding that angle.
   // Counting along the summed angle gives one trace per direction even when the direction runs
   // along a mesh edge; such a trace is turned 1e-9 into the corner, so that it never runs along an
@@ -454,6 +467,7 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
         Eigen::Vector2d(std::cos(sector.start + offset), std::sin(sector.start + offset));
   };
   std::vector<int> vertexNode(mesh.n_vertices(), -1);
+  std::vector<int> firstConeTrace;  // per node: its cone's traces follow one another from here
   for (const auto v : mesh.vertices()) {
     const double angle = angleSum[std::size_t(v.idx())];
     if (std::abs(angle - 2.0 * kPi) <= options.coneTolerance) continue;
@@ -475,6 +489,7 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
     const Sector& firstSector = sectors.front();
     const double firstAxis = std::fmod(
         wrapTurn(d.faces[std::size_t(firstSector.face)].frame - firstSector.start), kQuarter);
+    firstConeTrace.push_back(int(d.traces.size()));
     for (int j = 0; j < quarterTurns; ++j) {
       Trace trace;
       trace.coneNode = node;
@@ -584,21 +599,26 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
     if (std::abs(cross(trace.direction, toCone)) > 1e-6 * d.scale ||
         std::abs(toCone.norm() - reach) > 1e-6 * d.scale)
       return -1;
-    const Eigen::Vector2d side =
-        face.corner[std::size_t((corner + 1) % 3)] - face.corner[std::size_t(corner)];
-    double back = -1.0;
-    for (const Sector& sector : sectorsAround(v))
-      if (sector.face == trace.face && sector.corner == corner)
-        back = sector.before +
-               std::clamp(std::atan2(cross(side, -toCone), side.dot(-toCone)), 0.0, sector.angle);
-    const double total = angleSum[std::size_t(v)];
-    for (std::size_t m = 0; m < d.traces.size(); ++m) {
-      const Trace& other = d.traces[m];
-      if (other.coneNode != node || !other.running || other.length != 0.0) continue;
-      const double apart = std::abs(std::remainder(other.start - back, total));
-      if (apart <= 1e-6) return int(m);
+    const double back = angleAround(v, trace.face, corner, -toCone);
+    const int first = firstConeTrace[std::size_t(node)];
+    for (int m = first; m < first + d.nodes[std::size_t(node)].quarterTurns; ++m) {
+      const Trace& other = d.traces[std::size_t(m)];
+      if (other.running && other.length == 0.0 &&
+          std::abs(std::remainder(other.start - back, angleSum[std::size_t(v)])) <= 1e-6)
+        return m;
     }
     return -1;
+  };
+  // Trace t stops head-on against `partner` (already stopped) at `end`, `meet` further on: it
+  // joins the partner's node, on the side opposite the partner's way in.
+  const auto meetHeadOn = [&](int t, int partnerIndex, const Eigen::Vector2d& end, double meet) {
+    Trace& trace = d.traces[std::size_t(t)];
+    const Trace& partner = d.traces[std::size_t(partnerIndex)];
+    d.addPiece(trace.face, t, trace.tip, end, trace.length, trace.length + meet);
+    trace.length += meet;
+    trace.joinTrace = partner.joinTrace >= 0 ? partner.joinTrace : partnerIndex;
+    trace.endSlot = (partner.endSlot + 2) % 4;
+    trace.running = false;
   };
   while (!queue.empty()) {
     const int t = queue.top().second;
@@ -647,11 +667,7 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
           partner.running = false;
           partner.endSlot = 0;
         }
-        d.addPiece(trace.face, t, trace.tip, end, trace.length, trace.length + meet);
-        trace.length += meet;
-        trace.joinTrace = partner.joinTrace >= 0 ? partner.joinTrace : partnerIndex;
-        trace.endSlot = (partner.endSlot + 2) % 4;
-        trace.running = false;
+        meetHeadOn(t, partnerIndex, end, meet);
         continue;
       }
     }
@@ -671,11 +687,7 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
         partner.running = false;
         partner.endSlot = 0;
         d.addPiece(trace.face, partnerIndex, cone, end, 0.0, partner.length);
-        d.addPiece(trace.face, t, trace.tip, end, trace.length, trace.length + meet);
-        trace.length += meet;
-        trace.joinTrace = partnerIndex;
-        trace.endSlot = 2;
-        trace.running = false;
+        meetHeadOn(t, partnerIndex, end, meet);
         continue;
       }
     }
@@ -716,15 +728,7 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
                         " meets no other trace within " + std::to_string(options.maxTraceLength) +
                         " times the surface's size");
     if (arrival >= 0) {
-      // Its way back as an angle around the vertex: from the corner's first side.
-      const FaceGeometry& face = d.faces[std::size_t(trace.face)];
-      const Eigen::Vector2d side =
-          face.corner[std::size_t((corner + 1) % 3)] - face.corner[std::size_t(corner)];
-      for (const Sector& sector : sectorsAround(arrival))
-        if (sector.face == trace.face && sector.corner == corner)
-          trace.back = sector.before + std::clamp(std::atan2(cross(side, -trace.direction),
-                                                             side.dot(-trace.direction)),
-                                                  0.0, sector.angle);
+      trace.back = angleAround(arrival, trace.face, corner, -trace.direction);
       trace.atVertex = arrival;
       visits[std::size_t(arrival)].pending.push_back(t);
       queue.emplace(trace.length, t);
