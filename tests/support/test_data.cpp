@@ -107,12 +107,21 @@ const spline::SplineModel& fittedModel(const std::string& meshName, const std::s
       meshName + "-" + kind + "-" + std::to_string(std::hash<std::string>()(arguments));
   const auto found = models.find(key);
   if (found != models.end()) return found->second;
-  // Test processes run in parallel: a directory of this process's own, gone once read.
-  const std::string dir = scratchDirectory("fitted_" + key + "_" + std::to_string(getpid()));
-  spline::SplineModel& model = models[key] =
-      io::readSplineModel(fitModel(meshName, kind, dir + "/model.msp", arguments));
-  fs::remove_all(dir);
-  return model;
+  // Shared by the test processes, as long as the command is the same build (its size and time):
+  // a fit under the sanitizers takes many seconds, and a dozen test cases read the same models.
+  // Fitted in a directory of this process's own, then renamed: a reader never sees half a file.
+  const fs::path command(cliPath());
+  const std::string build = std::to_string(fs::file_size(command)) + "-" +
+                            std::to_string(fs::last_write_time(command).time_since_epoch().count());
+  const fs::path cache = fs::temp_directory_path() / "mspline-tests" / "fitted";
+  fs::create_directories(cache);
+  const fs::path cached = cache / (key + "-" + build + ".msp");
+  if (!fs::exists(cached)) {
+    const std::string dir = scratchDirectory("fitted_" + key + "_" + std::to_string(getpid()));
+    fs::rename(fitModel(meshName, kind, dir + "/model.msp", arguments), cached);
+    fs::remove_all(dir);
+  }
+  return models[key] = io::readSplineModel(cached.string());
 }
 
 const spline::SplineModel& headModel(const std::string& kind) {

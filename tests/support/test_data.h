@@ -54,13 +54,14 @@ std::string fitModel(const std::string& meshName, const std::string& kind, const
 /// the rounds after it only add samples and took a minute of a sanitized test's time.
 inline const std::string kSmallFit = "--control 300 --max-control 500 --max-refinements 1";
 
-/// The model fitModel fits with these arguments, read back: fitted once per test process, so the
-/// sections of a test that use the same small model share one fit.
+/// The model fitModel fits with these arguments, read back: fitted once per build of the command
+/// and kept in the temporary directory, so that the test cases (processes) that use the same small
+/// model share one fit.
 const spline::SplineModel& fittedModel(const std::string& meshName, const std::string& kind,
                                        const std::string& arguments);
 
 /// A small model of `kind` (tspline, tribspline, subd) fitted to head.off (kSmallFit), once per
-/// kind and process: 3 holes filled for the fit, 4 cones.
+/// kind and build: 3 holes filled for the fit, 4 cones.
 const spline::SplineModel& headModel(const std::string& kind);
 
 }  // namespace mspline::test
