@@ -204,7 +204,7 @@ bool meetsAnisotropy(const Row& row) {
 
 int main(int argc, char** argv) {
   int control = 6000;
-  int minCornerValence = 2;
+  int minCornerValence = 3;
   double limit = 900.0;
   long bigFaces = 1000000;
   std::vector<std::string> paths;

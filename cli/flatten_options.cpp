@@ -57,9 +57,9 @@ void addFlattenOptions(CLI::App& sub, FlattenSettings& settings, const std::stri
 void addCornerValenceOption(CLI::App& sub, int& minCornerValence) {
   sub.add_option(
          "--min-corner-valence", minCornerValence,
-         "Quad layout: the smallest valence of a cone's corner, 2 (default: one cone of "
-         "angle pi at a sharp tip) or 3 (cones of angle 3 pi / 2 at most; a cube's layout is "
-         "its six faces; fits fold more on some organic meshes today)")
+         "Quad layout: the smallest valence of a cone's corner, 3 (default: cones of angle "
+         "3 pi / 2 at most; a cube's layout is its six faces) or 2 (one cone of angle pi at a "
+         "sharp tip; fewer folds on some organic meshes, more on most of the data set)")
       ->check(CLI::Range(2, 3));
 }
 

@@ -33,7 +33,7 @@ bool parseCount(const std::string& text, int& count);
 void addFlattenOptions(CLI::App& sub, FlattenSettings& settings,
                        const std::string& toleranceFlag = "--tolerance");
 
-/// Adds --min-corner-valence (2 or 3, default 2) to a subcommand that builds a quad layout: the
+/// Adds --min-corner-valence (2 or 3, default 3) to a subcommand that builds a quad layout: the
 /// smallest valence of a cone's corner (see spline::FitOptions::minCornerValence).
 void addCornerValenceOption(CLI::App& sub, int& minCornerValence);
 

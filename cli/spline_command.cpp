@@ -30,7 +30,7 @@ struct SplineArguments {
   double cloudRadius = 0.3;
   double grid = 0.0;
   unsigned seed = 1;
-  int minCornerValence = 2;
+  int minCornerValence = 3;
   spline::SurfaceFitOptions fit;
   FlattenSettings settings;
 };
