@@ -442,15 +442,17 @@ MotorcycleLayout::MotorcycleLayout(const TriMesh& mesh, const Eigen::VectorXd& l
   // The angle around `vertex` (from its first sector) of `direction` leaving it in face `face`, at
   // the face's corner `corner`.
   const auto angleAround = [&](int vertex, int face, int corner, const Eigen::Vector2d& direction) {
+    const std::vector<Sector> sectors = sectorsAround(vertex);
+    const auto sector = std::find_if(sectors.begin(), sectors.end(), [&](const Sector& s) {
+      return s.face == face && s.corner == corner;
+    });
+    MSPLINE_ASSERT(sector != sectors.end(), "motorcycle layout: face " + std::to_string(face) +
+                                                " is not around vertex " + std::to_string(vertex));
     const FaceGeometry& geometry = d.faces[std::size_t(face)];
     const Eigen::Vector2d side =
         geometry.corner[std::size_t((corner + 1) % 3)] - geometry.corner[std::size_t(corner)];
-    for (const Sector& sector : sectorsAround(vertex))
-      if (sector.face == face && sector.corner == corner)
-        return sector.before + std::clamp(std::atan2(cross(side, direction), side.dot(direction)),
-                                          0.0, sector.angle);
-    throw SolverError("motorcycle layout: face " + std::to_string(face) + " is not around vertex " +
-                      std::to_string(vertex));
+    return sector->before +
+           std::clamp(std::atan2(cross(side, direction), side.dot(direction)), 0.0, sector->angle);
   };
   // A trace leaving the vertex at angle `at` around it starts from the sector holding that angle.
   // Counting along the summed angle gives one trace per direction even when the direction runs
