@@ -92,7 +92,7 @@ TEST_CASE("export_surface: a fill lying on its scan is told apart by the way it 
   // plane.off is a flat square: the patch that closes its boundary lies on the scan itself, so
   // the closed surface is a flat pillow and both sides are at distance 0 from scan and fill.
   // Valence 2: the pillow's corners are cones of angle pi (with valence 3 each is two cones, and
-  // the rim stands 1 % of the diagonal beyond the square).
+  // the rim stands 2 % of the diagonal beyond the square).
   const spline::SplineModel& model =
       test::fittedModel("plane.off", "tspline", test::kSmallFit + " --min-corner-valence 2");
   REQUIRE(std::count(model.surfaceFaceFilled.begin(), model.surfaceFaceFilled.end(), char(1)) > 0);
