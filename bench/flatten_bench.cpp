@@ -103,7 +103,8 @@ void runSize(const structure::TriMesh& base, std::size_t faces) {
   std::size_t overlayFaces = 0;
   if (withFlips.ricci.converged)
     overlayFaces =
-        structure::intrinsicOverlay(mesh, withFlips.triangulation.flippedEdges(), withFlips.ricci.u)
+        structure::intrinsicOverlay(mesh, withFlips.triangulation.flippedEdges(), withFlips.ricci.u,
+                                    withFlips.triangulation.lengths(withFlips.ricci.u))
             .mesh.n_faces();
   double overlaySeconds = since(overlayStart);
 

@@ -171,6 +171,8 @@ Flattening flattenWithCones(const TriMesh& mesh, const FlattenOptions& options,
   newton.maxIterations = options.maxIterations;
   RicciResult& flow = out.flow;
   flow = solveRicciFlow(mesh, makeScheme(mesh, options.scheme), target, newton);
+  // The flip solve, when the input triangulation degenerates.
+  std::optional<IntrinsicFlattening> flipped;
   out.stageSeconds.emplace_back("ricci_flow", clock.lap());
   report(progress, std::to_string(flow.iterations) + " Newton steps, max curvature error " +
                        std::to_string(flow.maxCurvatureError) + ": " + flow.message);
@@ -184,16 +186,16 @@ Flattening flattenWithCones(const TriMesh& mesh, const FlattenOptions& options,
                          "); retrying with intrinsic Delaunay flips" +
                          (topology.closed ? "" : " on the doubled surface"));
     out.plainSolve = Flattening::PlainSolve{flow.message, flow.iterations};
-    IntrinsicFlattening flipped = flattenWithFlips(mesh, target, newton);
-    flow = flipped.solve.ricci;
-    flow.u = flipped.u;
-    out.flips = flipped.solve.flips;
-    out.doubled = flipped.doubled;
-    out.stageSeconds.emplace_back("ricci_flow_flips", clock.lap());
+    flipped = flattenWithFlips(mesh, target, newton);
+    flow = flipped->solve.ricci;
+    flow.u = flipped->u;
+    out.flips = int(flipped->solve.flips);
+    out.doubled = flipped->doubled;
     if (flow.converged) {
-      out.splitEdges = flipped.splitEdges;
-      out.overlay = std::move(flipped.overlay);
+      out.splitEdges = flipped->splitEdges;
+      out.overlay = std::move(flipped->overlay);
     }
+    out.stageSeconds.emplace_back("ricci_flow_flips", clock.lap());
   }
   if (!flow.converged) {
     out.message = named + "the Ricci flow did not converge: " + flow.message;
@@ -209,20 +211,50 @@ Flattening flattenWithCones(const TriMesh& mesh, const FlattenOptions& options,
     report(progress,
            "quantizing the rotation along " + std::to_string(2 * topology.genus) + " handle loops");
     HolonomyQuantizationResult& holonomy = out.holonomy.emplace();
-    try {
-      holonomy = quantizeHolonomy(out.surface(), out.flatLengths, cones);
-    } catch (const SolverError& error) {
-      // A singular step (too few triangles to move the rotations): as non-convergence.
-      holonomy.converged = false;
-      holonomy.message = error.what();
+    const auto quantize = [&](const IntrinsicTriangulation& start, const Eigen::VectorXd& lengths,
+                              bool flips) {
+      HolonomyQuantizationOptions quantization;
+      quantization.flips = flips;
+      try {
+        holonomy = quantizeHolonomy(start, lengths, cones, quantization);
+      } catch (const SolverError& error) {
+        // A singular step (too few triangles to move the rotations): as non-convergence.
+        holonomy.converged = false;
+        holonomy.message = error.what();
+      }
+    };
+    // The metric that comes out may live on a triangulation the steps flipped; the surface laid
+    // out is then its common subdivision with the input.
+    const auto take = [&]() {
+      const IntrinsicTriangulation& tri = holonomy.triangulation;
+      if (tri.flipCount() == 0) {
+        out.flatLengths = holonomy.edgeLengths;
+        return;
+      }
+      out.overlay = intrinsicOverlay(mesh, tri.flippedEdges(), flow.u, holonomy.edgeLengths);
+      out.flatLengths = out.overlay->edgeLengths;
+      out.flips = int(tri.flipCount());
+    };
+    // First on the surface's own triangles (the input's, or the common subdivision's, whose many
+    // edges leave the metric the most freedom), without flips. Where the triangles block the steps
+    // (the common subdivision's slivers on cheese.off), again with flips, from the flip solver's
+    // Delaunay triangulation when there is one.
+    quantize(IntrinsicTriangulation(out.surface(), out.flatLengths), out.flatLengths, false);
+    if (holonomy.converged) {
+      out.flatLengths = holonomy.edgeLengths;
+    } else {
+      report(progress, "the handle rotations cannot be quantized on fixed triangles (" +
+                           holonomy.message + "); again with flips");
+      if (flipped) {
+        const IntrinsicTriangulation& tri = flipped->solve.triangulation;
+        quantize(tri, tri.lengths(flow.u), true);
+      } else {
+        quantize(IntrinsicTriangulation(mesh, out.flatLengths), out.flatLengths, true);
+      }
+      if (holonomy.converged) take();
     }
     out.stageSeconds.emplace_back("holonomy", clock.lap());
-    // A fixed triangulation cannot always follow the deformation (eight.off degenerates; that
-    // needs flips with point tracking): keep the conformal metric, whose seams then turn by
-    // arbitrary angles, and say so.
-    if (holonomy.converged)
-      out.flatLengths = holonomy.edgeLengths;
-    else
+    if (!holonomy.converged)
       report(progress, "warning: the handle rotations stay unquantized (" + holonomy.message +
                            "); seams across handles turn by arbitrary angles");
   }

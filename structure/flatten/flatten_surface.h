@@ -11,11 +11,11 @@
 #include <Eigen/Core>
 
 #include "mspline/structure/core/progress.h"
+#include "mspline/structure/intrinsic/holonomy_quantization.h"
 #include "mspline/structure/intrinsic/intrinsic_overlay.h"
 #include "mspline/structure/layout/flat_layout.h"
 #include "mspline/structure/mesh/tri_mesh.h"
 #include "mspline/structure/ricci/curvature_target.h"
-#include "mspline/structure/ricci/holonomy_quantization.h"
 #include "mspline/structure/ricci/ricci_newton.h"
 
 namespace mspline::structure {
@@ -61,7 +61,8 @@ struct Flattening {
   bool reachedMaxCones = false;
   /// The solve; u has one entry per input vertex.
   RicciResult flow;
-  /// The common subdivision when intrinsic flips were needed (then it is the surface laid out).
+  /// The common subdivision when intrinsic flips were needed, by the flow or by the holonomy
+  /// quantization (then it is the surface laid out).
   std::optional<IntrinsicOverlay> overlay;
   /// The input mesh (owned by the caller).
   const TriMesh* input = nullptr;
@@ -81,7 +82,7 @@ struct Flattening {
     int iterations = 0;
   };
   std::optional<PlainSolve> plainSolve;
-  /// Intrinsic flips made (0 without the fallback).
+  /// Intrinsic flips behind the overlay, the quantization's included (0 without an overlay).
   int flips = 0;
   /// With the fallback: whether the surface (one with boundary) was doubled.
   bool doubled = false;

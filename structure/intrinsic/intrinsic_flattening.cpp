@@ -73,7 +73,8 @@ IntrinsicFlattening flattenWithFlips(const TriMesh& mesh, const CurvatureTarget&
     out.solve = solveVertexScalingWithFlips(mesh, target, options);
     out.u = out.solve.ricci.u;
     if (out.solve.ricci.converged)
-      out.overlay = intrinsicOverlay(mesh, out.solve.triangulation.flippedEdges(), out.u);
+      out.overlay = intrinsicOverlay(mesh, out.solve.triangulation.flippedEdges(), out.u,
+                                     out.solve.triangulation.lengths(out.u));
     return out;
   }
   out.doubled = true;
@@ -131,7 +132,8 @@ IntrinsicFlattening flattenWithFlips(const TriMesh& mesh, const CurvatureTarget&
   out.u = out.solve.ricci.u.head(inputVertices);
   if (!out.solve.ricci.converged) return out;
   const IntrinsicOverlay full =
-      intrinsicOverlay(twice, out.solve.triangulation.flippedEdges(), out.solve.ricci.u);
+      intrinsicOverlay(twice, out.solve.triangulation.flippedEdges(), out.solve.ricci.u,
+                       out.solve.triangulation.lengths(out.solve.ricci.u));
   out.overlay = restrictOverlay(full, int(half.n_faces()), n, int(twice.n_vertices()));
   return out;
 }

@@ -69,7 +69,7 @@ class FlipReplay {
   }
 
   void flip(int e);
-  IntrinsicOverlay overlay(const Eigen::VectorXd& u) const;
+  IntrinsicOverlay overlay(const Eigen::VectorXd& u, const Eigen::VectorXd& lengths) const;
 
  private:
   // Weight of tip(slot) for crossing c on the side of slot.
@@ -265,7 +265,8 @@ void FlipReplay::flip(int e) {
   tri_.flip(e);
 }
 
-IntrinsicOverlay FlipReplay::overlay(const Eigen::VectorXd& u) const {
+IntrinsicOverlay FlipReplay::overlay(const Eigen::VectorXd& u,
+                                     const Eigen::VectorXd& lengths) const {
   const int vertices = int(input_.n_vertices());
   IntrinsicOverlay out;
   out.flips = tri_.flipCount();
@@ -281,7 +282,6 @@ IntrinsicOverlay FlipReplay::overlay(const Eigen::VectorXd& u) const {
     out.crossingInputEdge.push_back(x.inputEdge);
   }
 
-  const Eigen::VectorXd lengths = tri_.lengths(u);
   struct Node {
     int slot;      // corner at tip(slot), or the side a crossing lies on
     int crossing;  // -1 for a corner
@@ -448,17 +448,20 @@ IntrinsicOverlay FlipReplay::overlay(const Eigen::VectorXd& u) const {
 }  // namespace
 
 IntrinsicOverlay intrinsicOverlay(const TriMesh& input, const std::vector<int>& flips,
-                                  const Eigen::VectorXd& u) {
+                                  const Eigen::VectorXd& u, const Eigen::VectorXd& lengths) {
   if (u.size() != Eigen::Index(input.n_vertices()))
     throw InputError("overlay: " + std::to_string(u.size()) + " scale factors for " +
                      std::to_string(input.n_vertices()) + " vertices");
+  if (lengths.size() != Eigen::Index(input.n_edges()))
+    throw InputError("overlay: " + std::to_string(lengths.size()) + " intrinsic edge lengths for " +
+                     std::to_string(input.n_edges()) + " edges");
   FlipReplay replay(input);
   for (int e : flips) {
     if (e < 0 || e >= int(input.n_edges()))
       throw InputError("overlay: flip of edge " + std::to_string(e) + ", which does not exist");
     replay.flip(e);
   }
-  return replay.overlay(u);
+  return replay.overlay(u, lengths);
 }
 
 std::vector<SurfacePoint> pointsOnOverlay(const TriMesh& input, const IntrinsicOverlay& overlay,

@@ -44,11 +44,15 @@ struct IntrinsicOverlay {
 };
 
 /// Replays `flips` (IntrinsicTriangulation::flippedEdges of a triangulation built from `input`) and
-/// builds the overlay with the flat metric of that triangulation at scale factors `u`, which must
-/// satisfy the triangle inequality there (Delaunay at a converged u does). Throws InputError on
-/// sizes that do not match and InternalError when rounding defeats the construction.
+/// builds the overlay with the flat metric `lengths` of that triangulation (by its edge index):
+/// its lengths at scale factors `u` (Delaunay at a converged u satisfies the triangle
+/// inequality), or a metric moved from them on the same triangles (holonomy_quantization.h). The
+/// points of an intrinsic edge keep their place along it (set by u), and the cells of an intrinsic
+/// triangle follow it by the affine map between its two shapes, so they stay convex. Throws
+/// InputError on sizes that do not match and InternalError when rounding defeats the
+/// construction.
 IntrinsicOverlay intrinsicOverlay(const TriMesh& input, const std::vector<int>& flips,
-                                  const Eigen::VectorXd& u);
+                                  const Eigen::VectorXd& u, const Eigen::VectorXd& lengths);
 
 /// Points of `input`'s faces as points of the overlay faces (pieces of the input face) holding
 /// them: the piece where the point's smallest barycentric coordinate is largest, the coordinates

@@ -176,7 +176,13 @@ void IntrinsicTriangulation::flip(int e) {
   flippedEdges_.push_back(e);
 }
 
-long IntrinsicTriangulation::flipToDelaunay(const Eigen::VectorXd& u, double tolerance) {
+void IntrinsicTriangulation::setLogLengths0(const Eigen::VectorXd& logLengths) {
+  MSPLINE_ASSERT(logLengths.size() == logLength0_.size(), "one log-length per edge");
+  logLength0_ = logLengths;
+}
+
+long IntrinsicTriangulation::flipToDelaunay(const Eigen::VectorXd& u, double tolerance,
+                                            const std::function<void(int)>& flipped) {
   checkSize(*this, u);
   std::vector<int> queue;
   std::vector<char> queued(std::size_t(edgeCount()), 0);
@@ -197,6 +203,7 @@ long IntrinsicTriangulation::flipToDelaunay(const Eigen::VectorXd& u, double tol
       throw InternalError("Delaunay flipping did not terminate after " + std::to_string(limit) +
                           " flips");
     flip(e);
+    if (flipped) flipped(e);
     // The four sides of the flipped quadrilateral may have become non-Delaunay.
     const int g = halfedge(e);
     for (int s : {next(g), prev(g), next(twin(g)), prev(twin(g))}) {

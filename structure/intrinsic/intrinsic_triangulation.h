@@ -17,6 +17,7 @@
 // that face, tip(h) is the vertex h points to. Edge indices start as the input's edge idx() and
 // keep their index when flipped (then joining other vertices).
 #include <array>
+#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -58,6 +59,8 @@ class IntrinsicTriangulation {
   std::vector<std::array<int, 3>> faces() const;
   /// log l of every edge at u = 0.
   const Eigen::VectorXd& logLengths0() const { return logLength0_; }
+  /// Replaces them (another metric on the same triangles, as when holonomy is prescribed).
+  void setLogLengths0(const Eigen::VectorXd& logLengths);
   /// log l of every edge at u: lambda0_ij + (u_i + u_j) / 2.
   Eigen::VectorXd logLengths(const Eigen::VectorXd& u) const;
   /// Edge lengths at u, by edge index.
@@ -86,7 +89,9 @@ class IntrinsicTriangulation {
   /// Flips interior edges with delaunayCosineSum < -tolerance until there is none; returns the
   /// number of flips. Terminates because every flip strictly lowers a bounded-below quantity
   /// (Springborn); InternalError after 100 * (edges + 1) flips, a guard against rounding cycles.
-  long flipToDelaunay(const Eigen::VectorXd& u, double tolerance = 1e-13);
+  /// `flipped`, when given, is called with each edge right after its flip.
+  long flipToDelaunay(const Eigen::VectorXd& u, double tolerance = 1e-13,
+                      const std::function<void(int)>& flipped = {});
 
  private:
   std::vector<int> tip_, twin_, edge_;

@@ -8,10 +8,11 @@
 
 #include "mspline/structure/atlas/affine_atlas.h"
 #include "mspline/structure/core/constants.h"
+#include "mspline/structure/intrinsic/holonomy_quantization.h"
+#include "mspline/structure/intrinsic/intrinsic_triangulation.h"
 #include "mspline/structure/layout/flat_layout.h"
 #include "mspline/structure/ricci/cone_placement.h"
 #include "mspline/structure/ricci/curvature_target.h"
-#include "mspline/structure/ricci/holonomy_quantization.h"
 #include "mspline/structure/topology/homotopy_basis.h"
 #include "support/flat_metric.h"
 #include "support/test_data.h"
@@ -142,7 +143,8 @@ TEST_CASE("affine_atlas: quantized cones turn by quarter turns", "[structure]") 
     if (name == "eight.off") {
       CHECK(structure::buildAffineAtlas(flat.surface, flat.lengths, flat.layout).kind ==
             structure::TransitionKind::Rigid);
-      const auto seamless = structure::quantizeHolonomy(flat.surface, flat.lengths, cones);
+      const auto seamless = structure::quantizeHolonomy(
+          structure::IntrinsicTriangulation(flat.surface), flat.lengths, cones);
       REQUIRE(seamless.converged);
       flat.lengths = seamless.edgeLengths;
       flat.layout = structure::layoutFlatMetric(flat.surface, flat.lengths);

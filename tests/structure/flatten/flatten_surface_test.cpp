@@ -106,6 +106,32 @@ TEST_CASE("flatten_surface: automatic cones are placed again when the handles ca
   }
 }
 
+TEST_CASE("flatten_surface: genus 133, the handle rotations quantized with flips",
+          "[structure][slow]") {
+  // cheese.off: the flow needs intrinsic flips, and the Newton steps that make its 266 handle
+  // loops quarter turns would degenerate the flip solver's triangles: the quantization flips
+  // further, and the surface laid out is the common subdivision with its triangulation.
+  const TriMesh mesh = test::realMesh("cheese.off");
+  FlattenOptions options;
+  options.quantize = true;
+  const Flattening flat = structure::flattenSurface(mesh, options);
+  INFO(flat.message);
+  REQUIRE(flat.converged);
+  REQUIRE(flat.holonomy);
+  CHECK(flat.holonomy->loops.size() == 266);
+  CHECK(flat.holonomy->converged);
+  CHECK(flat.holonomy->maxResidual <= 1e-11);
+  CHECK(flat.holonomy->flips > 0);
+  CHECK(flat.rejectedConeCounts.empty());
+  REQUIRE(flat.overlay);
+  CHECK(flat.flips == flat.holonomy->triangulation.flipCount());
+  CHECK(flat.layout.flippedTriangles == 0);
+  CHECK(maxCurvatureMiss(flat) < 1e-8);
+  // Every seam a whole number of quarter turns: what the quad layout needs.
+  CHECK(flat.seamRotations.maxQuarterTurnError < 1e-5);
+  CHECK(structure::analyzeTopology(flat.surface()).genus == 133);
+}
+
 TEST_CASE("flatten_surface: a flat torus without cones has periods") {
   const TriMesh mesh = test::torus(24, 12);
   FlattenOptions options;

@@ -4,6 +4,7 @@
 #include <random>
 
 #include "mspline/structure/core/constants.h"
+#include "mspline/structure/intrinsic/holonomy_quantization.h"
 #include "mspline/structure/intrinsic/intrinsic_overlay.h"
 #include "mspline/structure/intrinsic/ricci_flips.h"
 #include "mspline/structure/layout/flat_layout.h"
@@ -48,13 +49,26 @@ std::vector<int> randomFlips(const TriMesh& mesh, int count, unsigned seed) {
   return tri.flippedEdges();
 }
 
-// The overlay is a refinement of the input and of the intrinsic triangulation at u: same
-// topology, every cell positive in 3D and in the flat metric, areas adding up on both sides.
-void checkOverlay(const std::string& name, const TriMesh& input, const std::vector<int>& flips,
-                  const Eigen::VectorXd& u, const IntrinsicOverlay& overlay) {
+// The lengths at u of the intrinsic triangulation that `flips` make of `input`.
+Eigen::VectorXd flippedLengths(const TriMesh& input, const std::vector<int>& flips,
+                               const Eigen::VectorXd& u) {
   IntrinsicTriangulation tri(input);
   for (int e : flips) tri.flip(e);
-  const Eigen::VectorXd lengths = tri.lengths(u);
+  return tri.lengths(u);
+}
+
+IntrinsicOverlay overlayAt(const TriMesh& input, const std::vector<int>& flips,
+                           const Eigen::VectorXd& u) {
+  return structure::intrinsicOverlay(input, flips, u, flippedLengths(input, flips, u));
+}
+
+// The overlay is a refinement of the input and of the intrinsic triangulation with the metric
+// `lengths`: same topology, every cell positive in 3D and in the flat metric, areas adding up on
+// both sides.
+void checkOverlay(const std::string& name, const TriMesh& input, const std::vector<int>& flips,
+                  const Eigen::VectorXd& lengths, const IntrinsicOverlay& overlay) {
+  IntrinsicTriangulation tri(input);
+  for (int e : flips) tri.flip(e);
   WARN(name << ": " << flips.size() << " flips, " << overlay.mesh.n_faces() << " overlay faces ("
             << input.n_faces() << " input), " << overlay.crossingInputEdge.size()
             << " crossings, length mismatch " << overlay.maxLengthMismatch);
@@ -95,18 +109,40 @@ void checkOverlay(const std::string& name, const TriMesh& input, const std::vect
   CHECK(flatError <= 1e-9);
 }
 
+// eight.off's flat metric by the flip solver, to 1e-10, with one cone or with quantized cones.
+struct EightWithFlips {
+  TriMesh mesh = test::realMesh("eight.off");
+  std::vector<structure::Cone> cones;
+  structure::RicciFlipsResult solved;
+};
+
+EightWithFlips eightWithFlips(bool singleCone) {
+  EightWithFlips out;
+  structure::ConePlacementOptions placement;
+  placement.singleCone = singleCone;
+  placement.quantize = !singleCone;
+  out.cones = structure::placeCones(out.mesh, placement).cones;
+  const auto target =
+      structure::flatTarget(out.mesh, out.cones, structure::BoundaryCondition::FixedScale);
+  structure::RicciNewtonOptions options;
+  options.tolerance = 1e-10 / (2 * kPi);
+  out.solved = structure::solveVertexScalingWithFlips(out.mesh, target, options);
+  REQUIRE(out.solved.ricci.converged);
+  return out;
+}
+
 }  // namespace
 
 TEST_CASE("intrinsic_overlay: without flips it is the input", "[structure]") {
   const TriMesh mesh = test::icosphere(2);
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(Eigen::Index(mesh.n_vertices()));
-  const IntrinsicOverlay overlay = structure::intrinsicOverlay(mesh, {}, zero);
+  const IntrinsicOverlay overlay = overlayAt(mesh, {}, zero);
   CHECK(overlay.mesh.n_vertices() == mesh.n_vertices());
   CHECK(overlay.mesh.n_faces() == mesh.n_faces());
   CHECK(overlay.crossingInputEdge.empty());
   CHECK(overlay.inputFace == overlay.intrinsicFace);
   CHECK(maxLengthDeviation(overlay) <= 1e-12);
-  checkOverlay("icosphere(2), no flips", mesh, {}, zero, overlay);
+  checkOverlay("icosphere(2), no flips", mesh, {}, flippedLengths(mesh, {}, zero), overlay);
 }
 
 TEST_CASE("intrinsic_overlay: flips of a cyclic polygon keep its geometry", "[structure]") {
@@ -125,10 +161,11 @@ TEST_CASE("intrinsic_overlay: flips of a cyclic polygon keep its geometry", "[st
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(Eigen::Index(mesh.n_vertices()));
   for (unsigned seed : {1u, 2u, 3u}) {
     const std::vector<int> flips = randomFlips(mesh, 60, seed);
-    const IntrinsicOverlay overlay = structure::intrinsicOverlay(mesh, flips, zero);
+    const IntrinsicOverlay overlay = overlayAt(mesh, flips, zero);
     CHECK(overlay.crossingInputEdge.size() > 0);
     CHECK(maxLengthDeviation(overlay) <= 1e-10);
-    checkOverlay("cyclic 14-gon, seed " + std::to_string(seed), mesh, flips, zero, overlay);
+    checkOverlay("cyclic 14-gon, seed " + std::to_string(seed), mesh, flips,
+                 flippedLengths(mesh, flips, zero), overlay);
   }
 }
 
@@ -145,7 +182,7 @@ TEST_CASE("intrinsic_overlay: flip sequences that return leave no crossings", "[
   REQUIRE(diagonals.size() == 2);
   for (int step = 0; step < 5; ++step) tri.flip(diagonals[std::size_t(step % 2)]);
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(5);
-  const IntrinsicOverlay cycled = structure::intrinsicOverlay(pentagon, tri.flippedEdges(), zero);
+  const IntrinsicOverlay cycled = overlayAt(pentagon, tri.flippedEdges(), zero);
   CHECK(cycled.crossingInputEdge.empty());
   CHECK(cycled.mesh.n_faces() == 3);
   CHECK(maxLengthDeviation(cycled) <= 1e-12);
@@ -154,28 +191,25 @@ TEST_CASE("intrinsic_overlay: flip sequences that return leave no crossings", "[
   const TriMesh torus = test::torus(12, 8);
   std::vector<int> flips = randomFlips(torus, 300, 11);
   const Eigen::VectorXd u = Eigen::VectorXd::Random(Eigen::Index(torus.n_vertices())) * 0.3;
-  const IntrinsicOverlay there = structure::intrinsicOverlay(torus, flips, u);
+  const IntrinsicOverlay there = overlayAt(torus, flips, u);
   CHECK(there.crossingInputEdge.size() > 0);
   flips.insert(flips.end(), flips.rbegin(), flips.rend());
-  const IntrinsicOverlay back = structure::intrinsicOverlay(torus, flips, u);
+  const IntrinsicOverlay back = overlayAt(torus, flips, u);
   CHECK(back.crossingInputEdge.empty());
   CHECK(back.mesh.n_faces() == torus.n_faces());
 }
 
 TEST_CASE("intrinsic_overlay: the flip solver's metric on eight.off, laid out", "[structure]") {
-  const TriMesh mesh = test::realMesh("eight.off");
-  structure::ConePlacementOptions placement;
-  placement.singleCone = true;
-  const auto cones = structure::placeCones(mesh, placement).cones;
-  const auto target = structure::flatTarget(mesh, cones, structure::BoundaryCondition::FixedScale);
-  structure::RicciNewtonOptions options;
-  options.tolerance = 1e-10 / (2 * kPi);
-  const auto solved = structure::solveVertexScalingWithFlips(mesh, target, options);
-  REQUIRE(solved.ricci.converged);
+  const EightWithFlips eight = eightWithFlips(true);
+  const TriMesh& mesh = eight.mesh;
+  const auto& cones = eight.cones;
+  const auto& solved = eight.solved;
   const auto& flips = solved.triangulation.flippedEdges();
   REQUIRE(!flips.empty());
-  const IntrinsicOverlay overlay = structure::intrinsicOverlay(mesh, flips, solved.ricci.u);
-  checkOverlay("eight.off, single cone", mesh, flips, solved.ricci.u, overlay);
+  const Eigen::VectorXd lengths = solved.triangulation.lengths(solved.ricci.u);
+  const IntrinsicOverlay overlay =
+      structure::intrinsicOverlay(mesh, flips, solved.ricci.u, lengths);
+  checkOverlay("eight.off, single cone", mesh, flips, lengths, overlay);
 
   const structure::FlatLayout layout =
       structure::layoutFlatMetric(overlay.mesh, overlay.edgeLengths);
@@ -187,4 +221,33 @@ TEST_CASE("intrinsic_overlay: the flip solver's metric on eight.off, laid out", 
   REQUIRE(layout.cones.size() == 1);
   CHECK(layout.cones[0].vertex == cones[0].vertex);
   CHECK(std::abs(layout.cones[0].curvature - cones[0].curvature) <= 1e-9);
+}
+
+TEST_CASE("intrinsic_overlay: a metric off the conformal class, on eight.off", "[structure]") {
+  // The flip solver's triangulation with quantized cones, then another metric on its triangles:
+  // the handles' rotations made quarter turns. The cells follow each triangle affinely and still
+  // tile both surfaces.
+  const EightWithFlips eight = eightWithFlips(false);
+  const TriMesh& mesh = eight.mesh;
+  const auto& cones = eight.cones;
+  const auto& solved = eight.solved;
+  const Eigen::VectorXd lengths = solved.triangulation.lengths(solved.ricci.u);
+  const auto seamless = structure::quantizeHolonomy(solved.triangulation, lengths, cones);
+  REQUIRE(seamless.converged);
+  CHECK(seamless.maxLogLengthChange > 1e-3);
+  CHECK(seamless.triangulation.flipCount() == solved.triangulation.flipCount() + seamless.flips);
+  const Eigen::VectorXd rotation =
+      structure::loopRotations(seamless.triangulation, seamless.edgeLengths, seamless.loops);
+  for (Eigen::Index k = 0; k < rotation.size(); ++k)
+    CHECK(std::abs(std::remainder(rotation[k], kPi / 2)) <= 1e-10);
+  const auto& flips = seamless.triangulation.flippedEdges();
+  const IntrinsicOverlay overlay =
+      structure::intrinsicOverlay(mesh, flips, solved.ricci.u, seamless.edgeLengths);
+  checkOverlay("eight.off, quantized cones and handles", mesh, flips, seamless.edgeLengths,
+               overlay);
+  const structure::FlatLayout layout =
+      structure::layoutFlatMetric(overlay.mesh, overlay.edgeLengths);
+  CHECK(layout.flippedTriangles == 0);
+  CHECK(layout.maxEdgeLengthError <= 1e-8);
+  CHECK(layout.cones.size() == cones.size());
 }

@@ -6,28 +6,31 @@
 #include "mspline/structure/atlas/affine_atlas.h"
 #include "mspline/structure/core/constants.h"
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/intrinsic/holonomy_quantization.h"
+#include "mspline/structure/intrinsic/intrinsic_triangulation.h"
 #include "mspline/structure/layout/flat_layout.h"
 #include "mspline/structure/ricci/cone_placement.h"
 #include "mspline/structure/ricci/curvature_target.h"
-#include "mspline/structure/ricci/holonomy_quantization.h"
 #include "mspline/structure/ricci/ricci_newton.h"
 #include "mspline/structure/ricci/vertex_scaling_energy.h"
 #include "support/test_meshes.h"
 
 using namespace mspline;
 using structure::DualLoop;
+using structure::IntrinsicTriangulation;
 using structure::TriMesh;
 
 namespace {
 
-// The faces around vertex v, each left by its edge from v: a small dual loop.
-DualLoop loopAround(const TriMesh& mesh, int v) {
+// The faces around vertex v, each left by its halfedge out of v: a small dual loop.
+DualLoop loopAround(const IntrinsicTriangulation& tri, int v) {
+  int first = 0;
+  while (tri.tail(first) != v) ++first;
   DualLoop loop;
-  const auto first = mesh.halfedge_handle(TriMesh::VertexHandle(v));
-  auto h = first;
+  int h = first;
   do {
-    loop.halfedges.push_back(h.idx());
-    h = mesh.next_halfedge_handle(mesh.opposite_halfedge_handle(h));
+    loop.halfedges.push_back(h);
+    h = tri.next(tri.twin(h));
   } while (h != first);
   return loop;
 }
@@ -41,38 +44,43 @@ structure::TransitionKind flatAtlasKind(const TriMesh& mesh, const Eigen::Vector
   return atlas.kind;
 }
 
-bool isClosedDualLoop(const TriMesh& mesh, const DualLoop& loop) {
+bool isClosedDualLoop(const IntrinsicTriangulation& tri, const DualLoop& loop) {
   const auto& hs = loop.halfedges;
-  for (std::size_t i = 0; i < hs.size(); ++i) {
-    const auto out = TriMesh::HalfedgeHandle(hs[i]);
-    const auto next = TriMesh::HalfedgeHandle(hs[(i + 1) % hs.size()]);
-    if (mesh.face_handle(mesh.opposite_halfedge_handle(out)) != mesh.face_handle(next))
-      return false;
-  }
+  for (std::size_t i = 0; i < hs.size(); ++i)
+    if (tri.twin(hs[i]) / 3 != hs[(i + 1) % hs.size()] / 3) return false;
   return !hs.empty();
 }
 
 }  // namespace
 
 TEST_CASE("holonomy_quantization: tree-cotree gives 2g closed dual loops", "[structure]") {
-  CHECK(structure::homologyDualLoops(test::icosphere(2)).empty());
-  const TriMesh torus = test::torus(20, 8);
-  const TriMesh doubleTorus = test::doubleTorus(3);
+  CHECK(structure::homologyDualLoops(IntrinsicTriangulation(test::icosphere(2))).empty());
+  const IntrinsicTriangulation torus(test::torus(20, 8));
+  const IntrinsicTriangulation doubleTorus(test::doubleTorus(3));
   const auto torusLoops = structure::homologyDualLoops(torus);
   const auto doubleLoops = structure::homologyDualLoops(doubleTorus);
   CHECK(torusLoops.size() == 2);
   CHECK(doubleLoops.size() == 4);
   for (const auto& loop : torusLoops) CHECK(isClosedDualLoop(torus, loop));
   for (const auto& loop : doubleLoops) CHECK(isClosedDualLoop(doubleTorus, loop));
-  CHECK_THROWS_AS(structure::homologyDualLoops(test::gridDisk(4)), structure::TopologyError);
+  CHECK_THROWS_AS(structure::homologyDualLoops(IntrinsicTriangulation(test::gridDisk(4))),
+                  structure::TopologyError);
+  // A flipped triangulation (loops and multiple edges allowed) gets its loops as well.
+  IntrinsicTriangulation flipped(test::doubleTorus(3));
+  for (int e = 0; e < flipped.edgeCount(); e += 3)
+    if (flipped.twin(flipped.halfedge(e)) / 3 != flipped.halfedge(e) / 3) flipped.flip(e);
+  const auto flippedLoops = structure::homologyDualLoops(flipped);
+  CHECK(flippedLoops.size() == 4);
+  for (const auto& loop : flippedLoops) CHECK(isClosedDualLoop(flipped, loop));
 }
 
 TEST_CASE("holonomy_quantization: a loop around a vertex turns by its curvature", "[structure]") {
   const TriMesh mesh = test::icosphere(2);
   const Eigen::VectorXd lengths = structure::edgeLengths(mesh);
   const Eigen::VectorXd curvature = structure::vertexCurvatures(mesh, lengths);
+  const IntrinsicTriangulation tri(mesh);
   for (int v : {0, 5, 40}) {
-    const auto rotation = structure::loopRotations(mesh, lengths, {loopAround(mesh, v)});
+    const auto rotation = structure::loopRotations(tri, lengths, {loopAround(tri, v)});
     INFO("vertex " << v << ": rotation " << rotation[0] << ", curvature " << curvature[v]);
     CHECK(std::abs(std::remainder(rotation[0] - curvature[v], 2 * kPi)) <= 1e-12);
   }
@@ -86,12 +94,13 @@ TEST_CASE("holonomy_quantization: Jacobian matches finite differences", "[struct
   for (Eigen::Index e = 0; e < lengths.size(); ++e) lengths[e] *= std::exp(jitter(random));
   REQUIRE(structure::degenerateFaces(mesh, lengths).empty());
 
+  const IntrinsicTriangulation tri(mesh);
   structure::HolonomyProblem problem;
-  problem.loops = structure::homologyDualLoops(mesh);
+  problem.loops = structure::homologyDualLoops(tri);
   problem.targetCurvature = Eigen::VectorXd::Zero(Eigen::Index(mesh.n_vertices()));
   problem.targetRotation = Eigen::VectorXd::Zero(Eigen::Index(problem.loops.size()));
   problem.droppedVertex = 7;
-  const Eigen::MatrixXd jacobian = structure::holonomyJacobian(mesh, lengths, problem);
+  const Eigen::MatrixXd jacobian = structure::holonomyJacobian(tri, lengths, problem);
   REQUIRE(jacobian.rows() == Eigen::Index(mesh.n_vertices() - 1 + problem.loops.size()));
   const double h = 1e-6;
   double worst = 0.0;
@@ -99,8 +108,8 @@ TEST_CASE("holonomy_quantization: Jacobian matches finite differences", "[struct
     Eigen::VectorXd plus = lengths, minus = lengths;
     plus[e] *= std::exp(h);
     minus[e] *= std::exp(-h);
-    const Eigen::VectorXd column = (structure::holonomyResiduals(mesh, plus, problem) -
-                                    structure::holonomyResiduals(mesh, minus, problem)) /
+    const Eigen::VectorXd column = (structure::holonomyResiduals(tri, plus, problem) -
+                                    structure::holonomyResiduals(tri, minus, problem)) /
                                    (2 * h);
     worst = std::max(worst, (column - jacobian.col(e)).cwiseAbs().maxCoeff());
   }
@@ -119,7 +128,8 @@ TEST_CASE("holonomy_quantization: a double torus with quantized cones becomes se
       structure::solveVertexScaling(mesh, structure::flatTarget(mesh, cones), options);
   REQUIRE(flow.converged);
 
-  const auto result = structure::quantizeHolonomy(mesh, flow.edgeLengths, cones);
+  const IntrinsicTriangulation tri(mesh);
+  const auto result = structure::quantizeHolonomy(tri, flow.edgeLengths, cones);
   WARN("doubleTorus(4), " << cones.size() << " cones: " << result.iterations
                           << " Newton steps, residual " << result.maxResidual
                           << ", log length change " << result.maxLogLengthChange << ", rotations "
@@ -127,6 +137,8 @@ TEST_CASE("holonomy_quantization: a double torus with quantized cones becomes se
                           << result.targetRotation.transpose());
   REQUIRE(result.converged);
   REQUIRE(result.loops.size() == 4);
+  // Its triangles could take the steps: the metric lives on the mesh's own triangles.
+  REQUIRE(result.flips == 0);
   // The conformal metric's handle rotations are not all quarter turns: there was work to do.
   const Eigen::VectorXd off = result.initialRotation - result.targetRotation;
   CHECK(off.cwiseAbs().maxCoeff() > 1e-3);
@@ -139,7 +151,7 @@ TEST_CASE("holonomy_quantization: a double torus with quantized cones becomes se
   Eigen::VectorXd expected = Eigen::VectorXd::Zero(curvature.size());
   for (const auto& cone : cones) expected[cone.vertex] = cone.curvature;
   CHECK((curvature - expected).cwiseAbs().maxCoeff() <= 1e-11);
-  const Eigen::VectorXd rotation = structure::loopRotations(mesh, lengths, result.loops);
+  const Eigen::VectorXd rotation = structure::loopRotations(tri, lengths, result.loops);
   for (Eigen::Index k = 0; k < rotation.size(); ++k) {
     const double quarters = rotation[k] / (kPi / 2);
     CHECK(std::abs(quarters - std::round(quarters)) <= 1e-11);

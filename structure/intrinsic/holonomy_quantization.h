@@ -9,6 +9,11 @@
 // the quantum, weighted so that skinny triangles hardly move. A loop's rotation is a sum of corner
 // angles along a dual loop, so the constraints stay angle sums (Campen, Shen, Zhou and Zorin 2019
 // prescribe holonomy the same way).
+//
+// Everything works on an intrinsic triangulation (intrinsic_triangulation.h) with a metric of its
+// own: the input's connectivity when the flow needed no flips, otherwise the flip solver's
+// Delaunay triangulation, whose triangles are far from degenerate where the common subdivision
+// with the input (intrinsic_overlay.h) is full of slivers that block the steps.
 #include <string>
 #include <vector>
 
@@ -16,13 +21,14 @@
 #include <Eigen/SparseCore>
 
 #include "mspline/structure/core/constants.h"
-#include "mspline/structure/mesh/tri_mesh.h"
+#include "mspline/structure/intrinsic/intrinsic_triangulation.h"
 #include "mspline/structure/ricci/curvature_target.h"
 
 namespace mspline::structure {
 
-/// A closed path of faces: halfedges[i] is the halfedge by which the path leaves its i-th face; its
-/// opposite lies in the next face, and the last one's opposite in the first.
+/// A closed path of faces of an intrinsic triangulation: halfedges[i] is the halfedge by which the
+/// path leaves its i-th face; its twin lies in the next face, and the last one's twin in the
+/// first.
 struct DualLoop {
   std::vector<int> halfedges;
 };
@@ -30,11 +36,11 @@ struct DualLoop {
 /// 2g dual loops whose classes form a basis of the first homology of a closed surface (tree-cotree:
 /// a breadth-first vertex tree, a dual tree of the remaining edges, one loop per edge left over).
 /// Throws TopologyError when the surface has a boundary or several components.
-std::vector<DualLoop> homologyDualLoops(const TriMesh& mesh);
+std::vector<DualLoop> homologyDualLoops(const IntrinsicTriangulation& tri);
 
 /// The rotation of parallel transport once along each loop (radians, counter-clockwise positive),
-/// summed from the corner angles of `lengths` without reduction mod 2 pi.
-Eigen::VectorXd loopRotations(const TriMesh& mesh, const Eigen::VectorXd& lengths,
+/// summed from the corner angles of `lengths` (by edge index) without reduction mod 2 pi.
+Eigen::VectorXd loopRotations(const IntrinsicTriangulation& tri, const Eigen::VectorXd& lengths,
                               const std::vector<DualLoop>& loops);
 
 /// What quantizeHolonomy solves for: one equation per vertex but `droppedVertex` (its curvature
@@ -50,11 +56,12 @@ struct HolonomyProblem {
 
 /// The residuals: curvature - target for the vertices (in index order, the dropped one skipped),
 /// then rotation - target for the loops.
-Eigen::VectorXd holonomyResiduals(const TriMesh& mesh, const Eigen::VectorXd& lengths,
+Eigen::VectorXd holonomyResiduals(const IntrinsicTriangulation& tri, const Eigen::VectorXd& lengths,
                                   const HolonomyProblem& problem);
 
 /// Jacobian of holonomyResiduals with respect to the log edge lengths (one column per edge).
-Eigen::SparseMatrix<double> holonomyJacobian(const TriMesh& mesh, const Eigen::VectorXd& lengths,
+Eigen::SparseMatrix<double> holonomyJacobian(const IntrinsicTriangulation& tri,
+                                             const Eigen::VectorXd& lengths,
                                              const HolonomyProblem& problem);
 
 struct HolonomyQuantizationOptions {
@@ -65,12 +72,23 @@ struct HolonomyQuantizationOptions {
   /// 1e-9.
   double tolerance = 1e-11;
   int maxIterations = 30;
+  /// Steps may flip the triangulation (off: a step that would degenerate a triangle is shortened
+  /// instead, and the metric stays on the given triangles).
+  bool flips = true;
 };
 
 struct HolonomyQuantizationResult {
-  /// The new flat metric, by edge index (the input lengths when nothing had to move).
+  /// The triangulation of the new metric: the one given, or, where steps would have degenerated
+  /// its triangles, that one further changed by Ptolemy flips (its flippedEdges() continue the
+  /// given one's, so intrinsicOverlay maps the input onto it).
+  IntrinsicTriangulation triangulation;
+  /// Flips made here.
+  long flips = 0;
+  /// The new flat metric, by edge index of `triangulation` (the input lengths when nothing had to
+  /// move).
   Eigen::VectorXd edgeLengths;
-  /// The handle loops and their rotations before and after (targets: multiples of the quantum).
+  /// The handle loops in `triangulation` and their rotations before and after (targets: multiples
+  /// of the quantum).
   std::vector<DualLoop> loops;
   Eigen::VectorXd initialRotation;
   Eigen::VectorXd targetRotation;
@@ -80,17 +98,20 @@ struct HolonomyQuantizationResult {
   int iterations = 0;
   /// Largest residual at the end (radians).
   double maxResidual = 0.0;
-  /// max |log(new length / old length)| over the edges: how far the metric moved.
+  /// max |log(new length / old length)| over the edges not flipped here: how far the metric moved.
   double maxLogLengthChange = 0.0;
   /// Why the iteration stopped.
   std::string message;
 };
 
-/// Moves the flat metric `lengths` (cone curvatures `cones`, flat elsewhere) of a closed surface
-/// to one with the same cones whose handle loops rotate by multiples of the quantum. Throws
+/// Moves the flat metric `lengths` (by edge index of `tri`, whose own lengths are not used; cone
+/// curvatures `cones`, flat elsewhere) of a closed surface to one with the same cones whose
+/// handle loops rotate by multiples of the quantum: Newton steps on the log lengths, with Ptolemy
+/// flips to the Delaunay triangulation of a trial metric whose triangles would degenerate. Throws
 /// TopologyError for surfaces with boundary, InputError for sizes that do not match. Non-
 /// convergence is reported in the result, not thrown.
-HolonomyQuantizationResult quantizeHolonomy(const TriMesh& mesh, const Eigen::VectorXd& lengths,
+HolonomyQuantizationResult quantizeHolonomy(const IntrinsicTriangulation& tri,
+                                            const Eigen::VectorXd& lengths,
                                             const std::vector<Cone>& cones,
                                             const HolonomyQuantizationOptions& options = {});
 
