@@ -131,6 +131,8 @@ Json flatteningJson(const Flattening& flattening, const FlattenOptions& options,
                             {"target_rotations", asVector(holonomy->targetRotation)},
                             {"converged", holonomy->converged},
                             {"iterations", holonomy->iterations},
+                            {"flips", holonomy->flips},
+                            {"message", holonomy->message},
                             {"max_residual", holonomy->maxResidual},
                             {"max_log_length_change", holonomy->maxLogLengthChange}};
     const FlatLayout& layout = flattening.layout;

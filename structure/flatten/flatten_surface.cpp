@@ -211,12 +211,11 @@ Flattening flattenWithCones(const TriMesh& mesh, const FlattenOptions& options,
     report(progress,
            "quantizing the rotation along " + std::to_string(2 * topology.genus) + " handle loops");
     HolonomyQuantizationResult& holonomy = out.holonomy.emplace();
-    const auto quantize = [&](const IntrinsicTriangulation& start, const Eigen::VectorXd& lengths,
-                              bool flips) {
+    const auto quantize = [&](const IntrinsicTriangulation& start, bool flips) {
       HolonomyQuantizationOptions quantization;
       quantization.flips = flips;
       try {
-        holonomy = quantizeHolonomy(start, lengths, cones, quantization);
+        holonomy = quantizeHolonomy(start, cones, quantization);
       } catch (const SolverError& error) {
         // A singular step (too few triangles to move the rotations): as non-convergence.
         holonomy.converged = false;
@@ -239,17 +238,18 @@ Flattening flattenWithCones(const TriMesh& mesh, const FlattenOptions& options,
     // edges leave the metric the most freedom), without flips. Where the triangles block the steps
     // (the common subdivision's slivers on cheese.off), again with flips, from the flip solver's
     // Delaunay triangulation when there is one.
-    quantize(IntrinsicTriangulation(out.surface(), out.flatLengths), out.flatLengths, false);
+    quantize(IntrinsicTriangulation(out.surface(), out.flatLengths), false);
     if (holonomy.converged) {
       out.flatLengths = holonomy.edgeLengths;
     } else {
       report(progress, "the handle rotations cannot be quantized on fixed triangles (" +
                            holonomy.message + "); again with flips");
       if (flipped) {
-        const IntrinsicTriangulation& tri = flipped->solve.triangulation;
-        quantize(tri, tri.lengths(flow.u), true);
+        IntrinsicTriangulation tri = flipped->solve.triangulation;
+        tri.setLogLengths0(tri.logLengths(flow.u));
+        quantize(tri, true);
       } else {
-        quantize(IntrinsicTriangulation(mesh, out.flatLengths), out.flatLengths, true);
+        quantize(IntrinsicTriangulation(mesh, out.flatLengths), true);
       }
       if (holonomy.converged) take();
     }

@@ -16,49 +16,30 @@ namespace mspline::structure {
 
 namespace {
 
+// Without flips, steps cut this short by triangles about to degenerate count as blocked.
+constexpr double kCrawlingStep = 1.0 / 64.0;
+
 void requireClosedSurface(const IntrinsicTriangulation& tri) {
   for (int e = 0; e < tri.edgeCount(); ++e)
     if (tri.isBoundaryEdge(e))
       throw TopologyError("holonomy quantization needs a closed surface; this one has a boundary");
 }
 
-void checkLengths(const IntrinsicTriangulation& tri, const Eigen::VectorXd& lengths) {
-  if (lengths.size() != Eigen::Index(tri.edgeCount()))
-    throw InputError("holonomy quantization: " + std::to_string(lengths.size()) +
-                     " edge lengths for a triangulation with " + std::to_string(tri.edgeCount()) +
-                     " edges");
+// The metric is the triangulation's own (Penner coordinates at u = 0).
+Eigen::VectorXd ownLengths(const IntrinsicTriangulation& tri) {
+  return tri.logLengths0().array().exp().matrix();
 }
 
-std::array<double, 3> faceSides(const IntrinsicTriangulation& tri, const Eigen::VectorXd& lengths,
-                                int f) {
-  return {lengths[tri.edge(3 * f)], lengths[tri.edge(3 * f + 1)], lengths[tri.edge(3 * f + 2)]};
+Eigen::VectorXd ownCornerAngles(const IntrinsicTriangulation& tri) {
+  return intrinsicCornerAngles(tri, Eigen::VectorXd::Zero(tri.vertexCount()));
 }
 
-/// For every halfedge, the angle of its face opposite it.
-Eigen::VectorXd cornerAngles(const IntrinsicTriangulation& tri, const Eigen::VectorXd& lengths) {
-  Eigen::VectorXd angles(3 * tri.faceCount());
-  for (int f = 0; f < tri.faceCount(); ++f) {
-    const auto l = faceSides(tri, lengths, f);
-    const auto angle = triangleAngles(l[0], l[1], l[2]);
-    for (int k = 0; k < 3; ++k) angles[3 * f + k] = angle[std::size_t(k)];
-  }
-  return angles;
-}
-
-/// 2 pi minus the angle sum of every vertex (the surface is closed).
-Eigen::VectorXd curvatures(const IntrinsicTriangulation& tri, const Eigen::VectorXd& lengths) {
-  const Eigen::VectorXd angles = cornerAngles(tri, lengths);
-  Eigen::VectorXd curvature = Eigen::VectorXd::Constant(tri.vertexCount(), 2.0 * kPi);
-  // The corner opposite halfedge h is at the tip of next(h).
-  for (int h = 0; h < 3 * tri.faceCount(); ++h) curvature[tri.tip(tri.next(h))] -= angles[h];
-  return curvature;
-}
-
-bool anyDegenerate(const IntrinsicTriangulation& tri, const Eigen::VectorXd& lengths) {
-  for (int f = 0; f < tri.faceCount(); ++f) {
-    const auto l = faceSides(tri, lengths, f);
-    if (!satisfiesTriangleInequality(l[0], l[1], l[2])) return true;
-  }
+bool anyDegenerate(const IntrinsicTriangulation& tri) {
+  const Eigen::VectorXd l = ownLengths(tri);
+  for (int f = 0; f < tri.faceCount(); ++f)
+    if (!satisfiesTriangleInequality(l[tri.edge(3 * f)], l[tri.edge(3 * f + 1)],
+                                     l[tri.edge(3 * f + 2)]))
+      return true;
   return false;
 }
 
@@ -102,9 +83,9 @@ void forEachStep(const IntrinsicTriangulation& tri, const DualLoop& loop, Visit&
 // freedom sin^4 of the smallest angle of the edge's triangles, so that skinny triangles barely
 // change and the deformation goes where triangles can take it. With plain least norm eight.off
 // stalls on degenerating triangles of its input triangulation; with sin^2 too.
-Eigen::VectorXd edgeFreedom(const IntrinsicTriangulation& tri, const Eigen::VectorXd& lengths) {
-  const Eigen::VectorXd angles = cornerAngles(tri, lengths);
-  Eigen::VectorXd freedom = Eigen::VectorXd::Ones(lengths.size());
+Eigen::VectorXd edgeFreedom(const IntrinsicTriangulation& tri) {
+  const Eigen::VectorXd angles = ownCornerAngles(tri);
+  Eigen::VectorXd freedom = Eigen::VectorXd::Ones(tri.edgeCount());
   for (int f = 0; f < tri.faceCount(); ++f) {
     const double smallest = std::min({angles[3 * f], angles[3 * f + 1], angles[3 * f + 2]});
     const double s = std::sin(smallest);
@@ -302,10 +283,9 @@ std::vector<DualLoop> homologyDualLoops(const IntrinsicTriangulation& tri) {
   return loops;
 }
 
-Eigen::VectorXd loopRotations(const IntrinsicTriangulation& tri, const Eigen::VectorXd& lengths,
+Eigen::VectorXd loopRotations(const IntrinsicTriangulation& tri,
                               const std::vector<DualLoop>& loops) {
-  checkLengths(tri, lengths);
-  const Eigen::VectorXd angles = cornerAngles(tri, lengths);
+  const Eigen::VectorXd angles = ownCornerAngles(tri);
   Eigen::VectorXd rotation(Eigen::Index(loops.size()));
   for (std::size_t k = 0; k < loops.size(); ++k) {
     double sum = 0.0;
@@ -317,13 +297,14 @@ Eigen::VectorXd loopRotations(const IntrinsicTriangulation& tri, const Eigen::Ve
   return rotation;
 }
 
-Eigen::VectorXd holonomyResiduals(const IntrinsicTriangulation& tri, const Eigen::VectorXd& lengths,
+Eigen::VectorXd holonomyResiduals(const IntrinsicTriangulation& tri,
                                   const HolonomyProblem& problem) {
-  const Eigen::VectorXd curvature = curvatures(tri, lengths);
+  const Eigen::VectorXd curvature =
+      intrinsicCurvatures(tri, Eigen::VectorXd::Zero(tri.vertexCount()));
   std::vector<char> excluded(std::size_t(tri.vertexCount()), 0);
   excluded[std::size_t(problem.droppedVertex)] = 1;
   const IndexMap rows(std::size_t(tri.vertexCount()), excluded);
-  const Eigen::VectorXd rotation = loopRotations(tri, lengths, problem.loops);
+  const Eigen::VectorXd rotation = loopRotations(tri, problem.loops);
   Eigen::VectorXd residual(rows.size() + rotation.size());
   residual.head(rows.size()) = rows.gather(curvature - problem.targetCurvature);
   // Parallel transport is a rotation mod 2 pi; the sums of a loop routed again after flips may
@@ -334,9 +315,8 @@ Eigen::VectorXd holonomyResiduals(const IntrinsicTriangulation& tri, const Eigen
 }
 
 Eigen::SparseMatrix<double> holonomyJacobian(const IntrinsicTriangulation& tri,
-                                             const Eigen::VectorXd& lengths,
                                              const HolonomyProblem& problem) {
-  checkLengths(tri, lengths);
+  const Eigen::VectorXd lengths = ownLengths(tri);
   std::vector<char> excluded(std::size_t(tri.vertexCount()), 0);
   excluded[std::size_t(problem.droppedVertex)] = 1;
   const IndexMap rows(std::size_t(tri.vertexCount()), excluded);
@@ -362,10 +342,8 @@ Eigen::SparseMatrix<double> holonomyJacobian(const IntrinsicTriangulation& tri,
 }
 
 HolonomyQuantizationResult quantizeHolonomy(const IntrinsicTriangulation& tri,
-                                            const Eigen::VectorXd& lengths,
                                             const std::vector<Cone>& cones,
                                             const HolonomyQuantizationOptions& options) {
-  checkLengths(tri, lengths);
   HolonomyQuantizationResult result;
   HolonomyProblem problem;
   problem.loops = homologyDualLoops(tri);
@@ -377,7 +355,7 @@ HolonomyQuantizationResult quantizeHolonomy(const IntrinsicTriangulation& tri,
     problem.targetCurvature[cone.vertex] = cone.curvature;
   }
   result.loops = problem.loops;
-  result.initialRotation = loopRotations(tri, lengths, problem.loops);
+  result.initialRotation = loopRotations(tri, problem.loops);
   problem.targetRotation =
       (result.initialRotation / options.quantum).array().round().matrix() * options.quantum;
   result.targetRotation = problem.targetRotation;
@@ -392,12 +370,11 @@ HolonomyQuantizationResult quantizeHolonomy(const IntrinsicTriangulation& tri,
   // Zorin 2019 take their steps so).
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(tri.vertexCount());
   IntrinsicTriangulation current = tri;
-  current.setLogLengths0(lengths.array().log().matrix());
   RoutedLoops routed(current, problem.loops);
-  Eigen::VectorXd currentLengths = lengths;
-  Eigen::VectorXd residual = holonomyResiduals(current, currentLengths, problem);
+  Eigen::VectorXd residual = holonomyResiduals(current, problem);
   SparseCholesky cholesky;
   bool analyzed = false;
+  int blockedInARow = 0;
   result.message = "did not converge in " + std::to_string(options.maxIterations) + " steps";
   for (;;) {
     result.maxResidual = maxAbs(residual);
@@ -412,9 +389,8 @@ HolonomyQuantizationResult quantizeHolonomy(const IntrinsicTriangulation& tri,
     // norm) that zeroes the linearization. Steps must lower the residual's 2-norm, for which the
     // Newton step is a descent direction; its largest entry may grow on the way (with that as the
     // test, cheese.off's 266 loops crawled at steps of 1/64 and stopped after 30 at 0.47 rad).
-    const Eigen::SparseMatrix<double> jacobian = holonomyJacobian(current, currentLengths, problem);
-    const Eigen::VectorXd freedom = edgeFreedom(current, currentLengths);
-    const Eigen::SparseMatrix<double> scaled = jacobian * freedom.asDiagonal();
+    const Eigen::SparseMatrix<double> jacobian = holonomyJacobian(current, problem);
+    const Eigen::SparseMatrix<double> scaled = jacobian * edgeFreedom(current).asDiagonal();
     const Eigen::SparseMatrix<double> normal = scaled * jacobian.transpose();
     if (!analyzed) {
       cholesky.analyze(normal);
@@ -422,58 +398,65 @@ HolonomyQuantizationResult quantizeHolonomy(const IntrinsicTriangulation& tri,
     }
     cholesky.factorize(normal);
     const Eigen::VectorXd step = scaled.transpose() * cholesky.solve(-residual);
+    const Eigen::VectorXd base = current.logLengths0();
     bool accepted = false;
+    bool blocked = false;  // some trial would have degenerated a triangle
+    double taken = 0.0;
     for (double t = 1.0; t > 1e-8 && !accepted; t *= 0.5) {
-      const Eigen::VectorXd trialLog = current.logLengths0() + t * step;
-      const Eigen::VectorXd trial = trialLog.array().exp().matrix();
-      if (!anyDegenerate(current, trial)) {
-        const Eigen::VectorXd trialResidual = holonomyResiduals(current, trial, problem);
+      current.setLogLengths0(base + t * step);
+      if (!anyDegenerate(current)) {
+        const Eigen::VectorXd trialResidual = holonomyResiduals(current, problem);
         if (trialResidual.squaredNorm() < residual.squaredNorm()) {
-          current.setLogLengths0(trialLog);
-          currentLengths = trial;
           residual = trialResidual;
+          taken = t;
           accepted = true;
         }
         continue;
       }
+      blocked = true;
       if (!options.flips) continue;
       IntrinsicTriangulation flipped = current;
       RoutedLoops rerouted = routed;
-      flipped.setLogLengths0(trialLog);
       try {
         flipped.flipToDelaunay(zero, 1e-13, [&](int e) { rerouted.flipped(flipped, e); });
       } catch (const InternalError&) {
         continue;  // far out, rounding can make Ptolemy flips cycle: a shorter step
       }
-      const Eigen::VectorXd flippedLengths = flipped.lengths(zero);
-      if (anyDegenerate(flipped, flippedLengths)) continue;
+      if (anyDegenerate(flipped)) continue;
       HolonomyProblem moved = problem;
       moved.loops = rerouted.loops(flipped);
-      const Eigen::VectorXd trialResidual = holonomyResiduals(flipped, flippedLengths, moved);
+      const Eigen::VectorXd trialResidual = holonomyResiduals(flipped, moved);
       if (trialResidual.squaredNorm() >= residual.squaredNorm()) continue;
       current = std::move(flipped);
       routed = std::move(rerouted);
       problem = std::move(moved);
-      currentLengths = flippedLengths;
       residual = trialResidual;
       analyzed = false;  // new connectivity, new pattern
+      taken = t;
       accepted = true;
     }
     if (!accepted) {
+      current.setLogLengths0(base);
       result.message = "the line search stalled at residual " + std::to_string(result.maxResidual);
+      break;
+    }
+    blockedInARow = !options.flips && blocked && taken <= kCrawlingStep ? blockedInARow + 1 : 0;
+    if (options.maxBlockedSteps > 0 && blockedInARow == options.maxBlockedSteps) {
+      result.message = "triangles about to degenerate cut " + std::to_string(blockedInARow) +
+                       " steps in a row to 1/64 or less: they block the way without flips";
       break;
     }
   }
   result.flips = current.flipCount() - tri.flipCount();
   result.loops = problem.loops;
-  result.edgeLengths = currentLengths;
+  result.edgeLengths = ownLengths(current);
   std::vector<char> flippedHere(std::size_t(tri.edgeCount()), 0);
   for (std::size_t k = std::size_t(tri.flipCount()); k < current.flippedEdges().size(); ++k)
     flippedHere[std::size_t(current.flippedEdges()[k])] = 1;
   for (int e = 0; e < tri.edgeCount(); ++e)
     if (!flippedHere[std::size_t(e)])
-      result.maxLogLengthChange =
-          std::max(result.maxLogLengthChange, std::abs(std::log(currentLengths[e] / lengths[e])));
+      result.maxLogLengthChange = std::max(
+          result.maxLogLengthChange, std::abs(current.logLengths0()[e] - tri.logLengths0()[e]));
   result.triangulation = std::move(current);
   return result;
 }

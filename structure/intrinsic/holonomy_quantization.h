@@ -39,8 +39,9 @@ struct DualLoop {
 std::vector<DualLoop> homologyDualLoops(const IntrinsicTriangulation& tri);
 
 /// The rotation of parallel transport once along each loop (radians, counter-clockwise positive),
-/// summed from the corner angles of `lengths` (by edge index) without reduction mod 2 pi.
-Eigen::VectorXd loopRotations(const IntrinsicTriangulation& tri, const Eigen::VectorXd& lengths,
+/// summed from the corner angles of the triangulation's own metric (its logLengths0()) without
+/// reduction mod 2 pi.
+Eigen::VectorXd loopRotations(const IntrinsicTriangulation& tri,
                               const std::vector<DualLoop>& loops);
 
 /// What quantizeHolonomy solves for: one equation per vertex but `droppedVertex` (its curvature
@@ -56,12 +57,11 @@ struct HolonomyProblem {
 
 /// The residuals: curvature - target for the vertices (in index order, the dropped one skipped),
 /// then rotation - target for the loops.
-Eigen::VectorXd holonomyResiduals(const IntrinsicTriangulation& tri, const Eigen::VectorXd& lengths,
+Eigen::VectorXd holonomyResiduals(const IntrinsicTriangulation& tri,
                                   const HolonomyProblem& problem);
 
 /// Jacobian of holonomyResiduals with respect to the log edge lengths (one column per edge).
 Eigen::SparseMatrix<double> holonomyJacobian(const IntrinsicTriangulation& tri,
-                                             const Eigen::VectorXd& lengths,
                                              const HolonomyProblem& problem);
 
 struct HolonomyQuantizationOptions {
@@ -75,6 +75,11 @@ struct HolonomyQuantizationOptions {
   /// Steps may flip the triangulation (off: a step that would degenerate a triangle is shortened
   /// instead, and the metric stays on the given triangles).
   bool flips = true;
+  /// Without flips, give up after this many steps in a row that triangles about to degenerate cut
+  /// to 1/64 of Newton's or less: they block the way, and flips are needed (cheese.off crawled so
+  /// for 30 steps; where steps grew back to whole ones, as on anchor.off, they were never cut
+  /// below 1/32). 0: never give up so.
+  int maxBlockedSteps = 3;
 };
 
 struct HolonomyQuantizationResult {
@@ -104,14 +109,13 @@ struct HolonomyQuantizationResult {
   std::string message;
 };
 
-/// Moves the flat metric `lengths` (by edge index of `tri`, whose own lengths are not used; cone
-/// curvatures `cones`, flat elsewhere) of a closed surface to one with the same cones whose
+/// Moves the flat metric of `tri` (its own logLengths0(); cone curvatures `cones`, flat
+/// elsewhere) of a closed surface to one with the same cones whose
 /// handle loops rotate by multiples of the quantum: Newton steps on the log lengths, with Ptolemy
 /// flips to the Delaunay triangulation of a trial metric whose triangles would degenerate. Throws
-/// TopologyError for surfaces with boundary, InputError for sizes that do not match. Non-
+/// TopologyError for surfaces with boundary, InputError for a cone vertex out of range. Non-
 /// convergence is reported in the result, not thrown.
 HolonomyQuantizationResult quantizeHolonomy(const IntrinsicTriangulation& tri,
-                                            const Eigen::VectorXd& lengths,
                                             const std::vector<Cone>& cones,
                                             const HolonomyQuantizationOptions& options = {});
 

@@ -144,7 +144,7 @@ TEST_CASE("affine_atlas: quantized cones turn by quarter turns", "[structure]") 
       CHECK(structure::buildAffineAtlas(flat.surface, flat.lengths, flat.layout).kind ==
             structure::TransitionKind::Rigid);
       const auto seamless = structure::quantizeHolonomy(
-          structure::IntrinsicTriangulation(flat.surface), flat.lengths, cones);
+          structure::IntrinsicTriangulation(flat.surface, flat.lengths), cones);
       REQUIRE(seamless.converged);
       flat.lengths = seamless.edgeLengths;
       flat.layout = structure::layoutFlatMetric(flat.surface, flat.lengths);

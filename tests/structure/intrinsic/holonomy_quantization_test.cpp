@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <random>
+#include <string>
 
 #include "mspline/structure/atlas/affine_atlas.h"
 #include "mspline/structure/core/constants.h"
@@ -13,6 +14,7 @@
 #include "mspline/structure/ricci/curvature_target.h"
 #include "mspline/structure/ricci/ricci_newton.h"
 #include "mspline/structure/ricci/vertex_scaling_energy.h"
+#include "support/test_data.h"
 #include "support/test_meshes.h"
 
 using namespace mspline;
@@ -76,11 +78,10 @@ TEST_CASE("holonomy_quantization: tree-cotree gives 2g closed dual loops", "[str
 
 TEST_CASE("holonomy_quantization: a loop around a vertex turns by its curvature", "[structure]") {
   const TriMesh mesh = test::icosphere(2);
-  const Eigen::VectorXd lengths = structure::edgeLengths(mesh);
-  const Eigen::VectorXd curvature = structure::vertexCurvatures(mesh, lengths);
+  const Eigen::VectorXd curvature = structure::vertexCurvatures(mesh, structure::edgeLengths(mesh));
   const IntrinsicTriangulation tri(mesh);
   for (int v : {0, 5, 40}) {
-    const auto rotation = structure::loopRotations(tri, lengths, {loopAround(tri, v)});
+    const auto rotation = structure::loopRotations(tri, {loopAround(tri, v)});
     INFO("vertex " << v << ": rotation " << rotation[0] << ", curvature " << curvature[v]);
     CHECK(std::abs(std::remainder(rotation[0] - curvature[v], 2 * kPi)) <= 1e-12);
   }
@@ -94,22 +95,25 @@ TEST_CASE("holonomy_quantization: Jacobian matches finite differences", "[struct
   for (Eigen::Index e = 0; e < lengths.size(); ++e) lengths[e] *= std::exp(jitter(random));
   REQUIRE(structure::degenerateFaces(mesh, lengths).empty());
 
-  const IntrinsicTriangulation tri(mesh);
+  const IntrinsicTriangulation tri(mesh, lengths);
   structure::HolonomyProblem problem;
   problem.loops = structure::homologyDualLoops(tri);
   problem.targetCurvature = Eigen::VectorXd::Zero(Eigen::Index(mesh.n_vertices()));
   problem.targetRotation = Eigen::VectorXd::Zero(Eigen::Index(problem.loops.size()));
   problem.droppedVertex = 7;
-  const Eigen::MatrixXd jacobian = structure::holonomyJacobian(tri, lengths, problem);
+  const Eigen::MatrixXd jacobian = structure::holonomyJacobian(tri, problem);
   REQUIRE(jacobian.rows() == Eigen::Index(mesh.n_vertices() - 1 + problem.loops.size()));
   const double h = 1e-6;
   double worst = 0.0;
   for (Eigen::Index e = 0; e < lengths.size(); e += 7) {
-    Eigen::VectorXd plus = lengths, minus = lengths;
-    plus[e] *= std::exp(h);
-    minus[e] *= std::exp(-h);
-    const Eigen::VectorXd column = (structure::holonomyResiduals(tri, plus, problem) -
-                                    structure::holonomyResiduals(tri, minus, problem)) /
+    IntrinsicTriangulation plus = tri, minus = tri;
+    Eigen::VectorXd logPlus = tri.logLengths0(), logMinus = tri.logLengths0();
+    logPlus[e] += h;
+    logMinus[e] -= h;
+    plus.setLogLengths0(logPlus);
+    minus.setLogLengths0(logMinus);
+    const Eigen::VectorXd column = (structure::holonomyResiduals(plus, problem) -
+                                    structure::holonomyResiduals(minus, problem)) /
                                    (2 * h);
     worst = std::max(worst, (column - jacobian.col(e)).cwiseAbs().maxCoeff());
   }
@@ -128,8 +132,8 @@ TEST_CASE("holonomy_quantization: a double torus with quantized cones becomes se
       structure::solveVertexScaling(mesh, structure::flatTarget(mesh, cones), options);
   REQUIRE(flow.converged);
 
-  const IntrinsicTriangulation tri(mesh);
-  const auto result = structure::quantizeHolonomy(tri, flow.edgeLengths, cones);
+  const IntrinsicTriangulation tri(mesh, flow.edgeLengths);
+  const auto result = structure::quantizeHolonomy(tri, cones);
   WARN("doubleTorus(4), " << cones.size() << " cones: " << result.iterations
                           << " Newton steps, residual " << result.maxResidual
                           << ", log length change " << result.maxLogLengthChange << ", rotations "
@@ -151,11 +155,39 @@ TEST_CASE("holonomy_quantization: a double torus with quantized cones becomes se
   Eigen::VectorXd expected = Eigen::VectorXd::Zero(curvature.size());
   for (const auto& cone : cones) expected[cone.vertex] = cone.curvature;
   CHECK((curvature - expected).cwiseAbs().maxCoeff() <= 1e-11);
-  const Eigen::VectorXd rotation = structure::loopRotations(tri, lengths, result.loops);
+  const Eigen::VectorXd rotation = structure::loopRotations(result.triangulation, result.loops);
   for (Eigen::Index k = 0; k < rotation.size(); ++k) {
     const double quarters = rotation[k] / (kPi / 2);
     CHECK(std::abs(quarters - std::round(quarters)) <= 1e-11);
   }
   // The atlas of the new metric: every transition a quarter turn plus a translation.
   CHECK(flatAtlasKind(mesh, lengths) == structure::TransitionKind::Rotation90);
+}
+
+TEST_CASE("holonomy_quantization: without flips, blocked steps end the iteration", "[structure]") {
+  // knot.off with its quantized cones: the steps that would make its two handle loops quarter
+  // turns degenerate the input's triangles at once. Crawling on does not get there either.
+  const TriMesh mesh = test::realMesh("knot.off");
+  structure::ConePlacementOptions placement;
+  placement.quantize = true;
+  const auto cones = structure::placeCones(mesh, placement).cones;
+  const auto flow = structure::solveVertexScaling(mesh, structure::flatTarget(mesh, cones));
+  REQUIRE(flow.converged);
+  const IntrinsicTriangulation tri(mesh, flow.edgeLengths);
+  structure::HolonomyQuantizationOptions options;
+  options.flips = false;
+  const auto stopped = structure::quantizeHolonomy(tri, cones, options);
+  options.maxBlockedSteps = 0;
+  const auto crawled = structure::quantizeHolonomy(tri, cones, options);
+  INFO(cones.size() << " cones; stopped after " << stopped.iterations << " steps at "
+                    << stopped.maxResidual << " (" << stopped.message << "), crawled "
+                    << crawled.iterations << " steps to " << crawled.maxResidual << " ("
+                    << crawled.message << ")");
+  CHECK(!stopped.converged);
+  CHECK(stopped.iterations < options.maxIterations);
+  CHECK(stopped.message.find("block the way") != std::string::npos);
+  CHECK(stopped.flips == 0);
+  CHECK(!crawled.converged);
+  CHECK(crawled.iterations == options.maxIterations);
+  CHECK(crawled.maxResidual > 1e-3);
 }
