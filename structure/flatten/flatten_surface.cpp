@@ -230,7 +230,16 @@ Flattening flattenWithCones(const TriMesh& mesh, const FlattenOptions& options,
         out.flatLengths = holonomy.edgeLengths;
         return;
       }
-      out.overlay = intrinsicOverlay(mesh, tri.flippedEdges(), flow.u, holonomy.edgeLengths);
+      try {
+        out.overlay = intrinsicOverlay(mesh, tri.flippedEdges(), flow.u, holonomy.edgeLengths);
+      } catch (const InternalError& error) {
+        // Rounding in the common subdivision of tens of thousands of flips (cheese.off with some
+        // cone sets): as a failed quantization, so that other cone sets are tried.
+        holonomy.converged = false;
+        holonomy.message =
+            std::string("its common subdivision with the input failed: ") + error.what();
+        return;
+      }
       out.flatLengths = out.overlay->edgeLengths;
       out.flips = int(tri.flipCount());
     };
@@ -271,8 +280,9 @@ Flattening flattenWithCones(const TriMesh& mesh, const FlattenOptions& options,
   return out;
 }
 
-bool holonomyFailed(const Flattening& flattening) {
-  return flattening.holonomy && !flattening.holonomy->converged;
+// The handle rotations could not be quantized, or the quantized metric not laid out.
+bool handlesFailed(const Flattening& flattening) {
+  return flattening.holonomy && (!flattening.holonomy->converged || !flattening.converged);
 }
 
 bool sameCones(const std::vector<Cone>& a, const std::vector<Cone>& b) {
@@ -297,7 +307,7 @@ Flattening flattenSurface(const TriMesh& mesh, const FlattenOptions& options,
   Stopwatch clock;
   Flattening out = flattenWithCones(mesh, options, chooseCones(mesh, options), clock, progress);
   const bool automatic = !options.cones && !options.singleCone && options.coneCount < 0;
-  if (!automatic || !holonomyFailed(out)) return out;
+  if (!automatic || !handlesFailed(out)) return out;
 
   // The handle rotations depend on where the cones are; the Newton steps that quantize them can
   // degenerate the fixed triangulation for one cone set and not for another. Other automatic
@@ -322,8 +332,8 @@ Flattening flattenSurface(const TriMesh& mesh, const FlattenOptions& options,
       continue;
     tried.push_back(cones);
     report(progress, "the handle rotations with " + std::to_string(rejected.back()) +
-                         " cones could not be quantized; trying " + std::to_string(cones.size()) +
-                         " cones");
+                         " cones could not be quantized or laid out; trying " +
+                         std::to_string(cones.size()) + " cones");
     const int placed = int(cones.size());
     Flattening candidate;
     try {
@@ -342,7 +352,7 @@ Flattening flattenSurface(const TriMesh& mesh, const FlattenOptions& options,
       else
         same->second += stage.second;
     }
-    if (candidate.converged && !holonomyFailed(candidate)) {
+    if (candidate.converged && !handlesFailed(candidate)) {
       candidate.rejectedConeCounts = rejected;
       candidate.stageSeconds = spent;
       return candidate;

@@ -375,7 +375,8 @@ HolonomyQuantizationResult quantizeHolonomy(const IntrinsicTriangulation& tri,
   SparseCholesky cholesky;
   bool analyzed = false;
   int blockedInARow = 0;
-  result.message = "did not converge in " + std::to_string(options.maxIterations) + " steps";
+  const int maxIterations = options.maxIterations + int(problem.loops.size()) / 4;
+  result.message = "did not converge in " + std::to_string(maxIterations) + " steps";
   for (;;) {
     result.maxResidual = maxAbs(residual);
     if (result.maxResidual <= options.tolerance) {
@@ -383,7 +384,7 @@ HolonomyQuantizationResult quantizeHolonomy(const IntrinsicTriangulation& tri,
       result.message = "converged";
       break;
     }
-    if (result.iterations == options.maxIterations) break;
+    if (result.iterations == maxIterations) break;
     ++result.iterations;
     // Weighted least-norm Newton step: the smallest change of log lengths (in the freedom-weighted
     // norm) that zeroes the linearization. Steps must lower the residual's 2-norm, for which the

@@ -127,16 +127,21 @@ double distortionOf(const Eigen::VectorXd& u, bool closed) {
   throw SolverError(message);
 }
 
+// The most negative multiple of pi/2 the rounding's moves go to: cone angles up to 4 pi (a quad
+// layout's corner of valence 8).
+constexpr int kLowestQuarterTurns = -4;
+
 // Largest-remainder rounding of the cone curvatures to multiples of pi/2 summing to `total`
-// quarter turns, no multiple above `largest` (at most 3: the cone angle stays positive).
+// quarter turns, no multiple above `largest` (at most 3: the cone angle stays positive) or below
+// `lowest`.
 std::vector<int> roundToQuarterTurns(const std::vector<Cone>& cones, long total, int largest,
-                                     const ConePlacementOptions& options) {
+                                     int lowest, const ConePlacementOptions& options) {
   std::vector<int> k(cones.size());
   std::vector<double> remainder(cones.size());
   long sum = 0;
   for (std::size_t i = 0; i < cones.size(); ++i) {
     const double q = cones[i].curvature / kQuarter;
-    k[i] = std::min(largest, static_cast<int>(std::floor(q)));
+    k[i] = std::clamp(static_cast<int>(std::floor(q)), lowest, largest);
     remainder[i] = q - k[i];
     sum += k[i];
   }
@@ -157,10 +162,21 @@ std::vector<int> roundToQuarterTurns(const std::vector<Cone>& cones, long total,
       }
     }
   }
+  // Cones raised to the lowest multiple may leave too many quarter turns: the smallest remainders
+  // give theirs back.
+  for (bool lowered = true; sum > total && lowered;) {
+    lowered = false;
+    for (auto i = order.rbegin(); i != order.rend() && sum > total; ++i)
+      if (k[*i] > lowest) {
+        --k[*i];
+        --sum;
+        lowered = true;
+      }
+  }
   if (sum != total) {
     failPlacement(options, "cone placement: " + std::to_string(cones.size()) +
-                               " cones cannot be quantized to multiples of pi/2 with positive "
-                               "angles summing to 2 pi chi; place more cones");
+                               " cones cannot be quantized to multiples of pi/2 with angles in "
+                               "(0, 4 pi] summing to 2 pi chi; place more cones");
   }
   return k;
 }
@@ -194,9 +210,8 @@ void lowerRoundingDistortion(std::vector<int>& k, const std::vector<Eigen::Vecto
   }
   for (Eigen::Index i = 0; i < m; ++i)
     for (Eigen::Index j = 0; j < m; ++j) gradient[i] += gram(i, j) * k[std::size_t(j)];
-  // The lowest k keeps cone angles at most 4 pi (valence 8). Every move lowers the objective, so
-  // the descent ends; the bound on its steps is a guard.
-  const int lowest = -4;
+  // Every move lowers the objective, so the descent ends; the bound on its steps is a guard.
+  const int lowest = kLowestQuarterTurns;
   // A move must lower the objective by more than rounding.
   const double threshold = -1e-9 * std::max(1.0, gram.diagonal().maxCoeff());
   for (int step = 0; step < 16 * int(m) + 64; ++step) {
@@ -313,11 +328,18 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
     };
     // Rounding to quarter turns needs at least 4 chi / maxQuarterTurns cones on a closed surface
     // of positive Euler characteristic (a blob with three cones of curvature about 2 pi / 3 each
-    // cannot be rounded with at most pi per cone): placement goes on until there are enough.
-    const auto roomToRound = [&] {
-      return !(options.quantize && closed && chi > 0 &&
-               static_cast<long>(cones.size()) * options.maxQuarterTurns < 4 * chi);
+    // cannot be rounded with at most pi per cone), and -chi of negative Euler characteristic (its
+    // -4 chi quarter turns in cones of angle at most 4 pi: cheese.off, genus 133, had 64 cones of
+    // angles up to 72 rad, and its layout cells 176 times longer than wide): placement goes on
+    // until there are enough. The cap is then half as many again: with exactly -chi every cone
+    // takes four quarter turns (cheese: linearized distortion 17, area distortion 52; with 396
+    // cones 2.5 and 3.2).
+    const auto conesToRound = [&]() -> long {
+      if (!options.quantize || !closed) return 0;
+      if (chi > 0) return (4 * chi + options.maxQuarterTurns - 1) / options.maxQuarterTurns;
+      return options.targetCount < 0 ? -chi : 0;  // a count asked for may carry more
     };
+    const auto roomToRound = [&] { return static_cast<long>(cones.size()) >= conesToRound(); };
     // Relaxed to 0 (any vertex that is not a cone or on the boundary) when no vertex is farther
     // and the surface still needs cones: on a coarse polyhedron the corners, next to each other,
     // carry all the curvature.
@@ -348,7 +370,8 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
       } else if (valid() && roomToRound() && distortion <= options.maxDistortion) {
         stop = "distortion below the threshold";
         break;
-      } else if (static_cast<int>(cones.size()) >= options.maxCones) {
+      } else if (static_cast<long>(cones.size()) >=
+                 std::max(static_cast<long>(options.maxCones), conesToRound() * 3 / 2)) {
         stop = "reached the maximum number of cones";
         result.reachedMaxCones = true;
         break;
@@ -460,7 +483,14 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
       const int largest = options.maxQuarterTurns;
       std::vector<int> k;
       if (closed) {
-        k = roundToQuarterTurns(cones, 4 * chi, largest, options);
+        // Past maxCones, placement went on for room to round: every cone then stays within 4 pi
+        // (cheese.off's 394 cones). Below it, the cones keep what the greedy placement gave
+        // them, down to 7 quarter turns (turbine, femur): clamped, the excess went to other cones
+        // and femur's and turbine's fits folded three times as much.
+        const bool needsRoom = static_cast<long>(cones.size()) > options.maxCones;
+        k = roundToQuarterTurns(cones, 4 * chi, largest,
+                                needsRoom ? kLowestQuarterTurns : std::numeric_limits<int>::min(),
+                                options);
       } else {
         for (const Cone& c : cones)
           k.push_back(std::min(largest, static_cast<int>(std::lround(c.curvature / kQuarter))));

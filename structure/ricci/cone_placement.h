@@ -30,7 +30,9 @@ struct ConePlacementOptions {
   /// Stop threshold on the distortion of the linear solve (see ConePlacementResult::distortion):
   /// 1.0 lets the area scale exp(2u) vary by at most a factor e^4 (about 55) over the surface.
   double maxDistortion = 1.0;
-  /// Upper bound on the number of cones when targetCount is -1.
+  /// Upper bound on the number of cones when targetCount is -1. With `quantize` a closed surface
+  /// gets at least as many as rounding needs (4 chi / maxQuarterTurns when chi > 0, -chi when
+  /// chi < 0: cone angles of at most 4 pi), and the bound is at least half as many again.
   int maxCones = 64;
   /// Automatic placement goes on while a cone angle 2 pi - curvature is below this (radians):
   /// nearly degenerate cones make the Newton solve hard. Default pi / 4.
@@ -51,7 +53,8 @@ struct ConePlacementOptions {
   /// quarter turns move between cones (closed) or are added or taken (with a boundary) while that
   /// lowers the area-weighted squared conformal factor of the linear solve, so that the rounding
   /// errors do not pile up (-4 <= k). Cones that end at 0 are dropped. Every cone angle
-  /// 2 pi - k pi / 2 stays positive (k <= 3).
+  /// 2 pi - k pi / 2 stays positive (k <= 3), and at most 4 pi (-4 <= k) where placement went
+  /// past maxCones.
   bool quantize = false;
   /// With `quantize`: the largest multiple k allowed. 3 (default) lets a cone angle go down to
   /// pi/2. In a quad layout a cone of k quarter turns is a corner of valence 4 - k: 2 keeps every

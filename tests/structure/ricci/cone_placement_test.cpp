@@ -224,6 +224,29 @@ TEST_CASE("cone_placement: genus 2 with a single cone", "[structure]") {
   }
 }
 
+TEST_CASE("cone_placement: quantized cones of negative curvature stay at angles up to 4 pi",
+          "[structure]") {
+  // Genus 3: 16 quarter turns of negative curvature. Capped at one cone, automatic placement
+  // goes on to the -chi = 4 cones that can carry them at four quarter turns each, and may place
+  // half as many again.
+  const TriMesh mesh = test::genusSurface(3, 3);
+  REQUIRE(structure::analyzeTopology(mesh).euler == -4);
+  ConePlacementOptions options;
+  options.quantize = true;
+  options.maxCones = 1;
+  const auto placement = structure::placeCones(mesh, options);
+  CHECK(placement.cones.size() >= 4);
+  CHECK(placement.cones.size() <= 6);
+  int turns = 0;
+  for (int k : placement.quarterTurns) {
+    CHECK(k >= -4);
+    CHECK(k <= 3);
+    turns += k;
+  }
+  CHECK(turns == -16);
+  CHECK(std::abs(curvatureSum(placement.cones) + 8 * kPi) <= 1e-12);
+}
+
 TEST_CASE("cone_placement: genus 2, automatic cones satisfy Gauss-Bonnet", "[structure]") {
   const TriMesh mesh = test::doubleTorus(3);
   ConePlacementOptions options;
