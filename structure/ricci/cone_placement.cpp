@@ -175,8 +175,9 @@ std::vector<int> roundToQuarterTurns(const std::vector<Cone>& cones, long total,
   }
   if (sum != total) {
     failPlacement(options, "cone placement: " + std::to_string(cones.size()) +
-                               " cones cannot be quantized to multiples of pi/2 with angles in "
-                               "(0, 4 pi] summing to 2 pi chi; place more cones");
+                               " cones cannot be quantized to multiples of pi/2 with positive " +
+                               (lowest == kLowestQuarterTurns ? "angles up to 4 pi" : "angles") +
+                               " summing to 2 pi chi; place more cones");
   }
   return k;
 }
