@@ -230,16 +230,18 @@ Flattening flattenWithCones(const TriMesh& mesh, const FlattenOptions& options,
         out.flatLengths = holonomy.edgeLengths;
         return;
       }
-      try {
-        out.overlay = intrinsicOverlay(mesh, tri.flippedEdges(), flow.u, holonomy.edgeLengths);
-      } catch (const InternalError& error) {
-        // Rounding in the common subdivision of tens of thousands of flips (cheese.off with some
-        // cone sets): as a failed quantization, so that other cone sets are tried.
+      IntrinsicOverlay overlay =
+          intrinsicOverlay(mesh, tri.flippedEdges(), flow.u, holonomy.edgeLengths);
+      if (overlay.degenerateCells > 0) {
+        // Crossings rounded onto one another after tens of thousands of flips (cheese.off with
+        // some cone sets): as a failed quantization, so that other cone sets are tried.
         holonomy.converged = false;
-        holonomy.message =
-            std::string("its common subdivision with the input failed: ") + error.what();
+        holonomy.message = "its common subdivision with the input has " +
+                           std::to_string(overlay.degenerateCells) + " cells of zero area after " +
+                           std::to_string(tri.flipCount()) + " flips";
         return;
       }
+      out.overlay = std::move(overlay);
       out.flatLengths = out.overlay->edgeLengths;
       out.flips = int(tri.flipCount());
     };

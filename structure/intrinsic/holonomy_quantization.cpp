@@ -209,6 +209,20 @@ class RoutedLoops {
   std::vector<int> head_;
 };
 
+Eigen::VectorXd rotationsFromCornerAngles(const IntrinsicTriangulation& tri,
+                                          const std::vector<DualLoop>& loops,
+                                          const Eigen::VectorXd& angles) {
+  Eigen::VectorXd rotation(Eigen::Index(loops.size()));
+  for (std::size_t k = 0; k < loops.size(); ++k) {
+    double sum = 0.0;
+    forEachStep(tri, loops[k], [&](const LoopStep& step) {
+      sum += kPi + step.sign * (kPi - angles[step.cornerHalfedge]);
+    });
+    rotation[Eigen::Index(k)] = sum;
+  }
+  return rotation;
+}
+
 }  // namespace
 
 std::vector<DualLoop> homologyDualLoops(const IntrinsicTriangulation& tri) {
@@ -285,26 +299,17 @@ std::vector<DualLoop> homologyDualLoops(const IntrinsicTriangulation& tri) {
 
 Eigen::VectorXd loopRotations(const IntrinsicTriangulation& tri,
                               const std::vector<DualLoop>& loops) {
-  const Eigen::VectorXd angles = ownCornerAngles(tri);
-  Eigen::VectorXd rotation(Eigen::Index(loops.size()));
-  for (std::size_t k = 0; k < loops.size(); ++k) {
-    double sum = 0.0;
-    forEachStep(tri, loops[k], [&](const LoopStep& step) {
-      sum += kPi + step.sign * (kPi - angles[step.cornerHalfedge]);
-    });
-    rotation[Eigen::Index(k)] = sum;
-  }
-  return rotation;
+  return rotationsFromCornerAngles(tri, loops, ownCornerAngles(tri));
 }
 
 Eigen::VectorXd holonomyResiduals(const IntrinsicTriangulation& tri,
                                   const HolonomyProblem& problem) {
-  const Eigen::VectorXd curvature =
-      intrinsicCurvatures(tri, Eigen::VectorXd::Zero(tri.vertexCount()));
+  const Eigen::VectorXd angles = ownCornerAngles(tri);
+  const Eigen::VectorXd curvature = curvaturesFromCornerAngles(tri, angles);
   std::vector<char> excluded(std::size_t(tri.vertexCount()), 0);
   excluded[std::size_t(problem.droppedVertex)] = 1;
   const IndexMap rows(std::size_t(tri.vertexCount()), excluded);
-  const Eigen::VectorXd rotation = loopRotations(tri, problem.loops);
+  const Eigen::VectorXd rotation = rotationsFromCornerAngles(tri, problem.loops, angles);
   Eigen::VectorXd residual(rows.size() + rotation.size());
   residual.head(rows.size()) = rows.gather(curvature - problem.targetCurvature);
   // Parallel transport is a rotation mod 2 pi; the sums of a loop routed again after flips may

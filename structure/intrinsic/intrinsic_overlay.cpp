@@ -77,6 +77,14 @@ class FlipReplay {
     const double beta = crossings_[std::size_t(c)].alongIntrinsic;
     return tri_.halfedge(tri_.edge(slot)) == slot ? beta : 1.0 - beta;
   }
+  // Place of crossing c among the crossings on the side of slot, counted from tail(slot).
+  int rankOnSide(int slot, int c) const {
+    const std::vector<int>& onEdge = edgeCrossings_[std::size_t(tri_.edge(slot))];
+    const auto it = std::find(onEdge.begin(), onEdge.end(), c);
+    if (it == onEdge.end()) throw InternalError("overlay: a segment ends off its face");
+    const int rank = int(it - onEdge.begin());
+    return tri_.halfedge(tri_.edge(slot)) == slot ? rank : int(onEdge.size()) - 1 - rank;
+  }
   // alongInput at a segment end (0 or 1 at a corner: the input edge's endpoints).
   double inputWeight(const End& end, int inputEdge) const {
     if (end.crossing >= 0) return crossings_[std::size_t(end.crossing)].alongInput;
@@ -87,6 +95,7 @@ class FlipReplay {
   const TriMesh& input_;
   IntrinsicTriangulation tri_;
   std::vector<Crossing> crossings_;
+  // The crossings on each intrinsic edge, in their order from tail to tip of halfedge(edge).
   std::vector<std::vector<int>> edgeCrossings_;
   std::vector<std::vector<Segment>> faceSegments_;
   // The input edge an intrinsic edge coincides with, or -1.
@@ -187,11 +196,38 @@ void FlipReplay::flip(int e) {
         return {inA ? a2 : b0, -1};
     }
   };
+  // Which face of the flipped quadrilateral holds a piece, and whether it crosses the new diagonal
+  // k l, is decided by where its ends lie (input edges do not cross one another): +1 on i's side
+  // (the new A), -1 on j's side (the new B), 0 at k or l. Positions serve only to place crossings.
+  const auto sideOf = [&](const End& end) {
+    if (end.crossing < 0) {
+      const int c = corner(end.slot);
+      return c == 0 ? 1 : c == 1 ? -1 : 0;
+    }
+    if (end.slot == a2 || end.slot == b1) return 1;
+    if (end.slot == a1 || end.slot == b2) return -1;
+    throw InternalError("overlay: a segment ends on the flipped edge");
+  };
+  // Order of an end along the boundary path k -> i -> l (side +1) or k -> j -> l (side -1): pieces
+  // that do not cross one another cross k l in the order of their ends on both paths.
+  const auto along = [&](const End& end) -> std::pair<int, int> {
+    if (end.crossing < 0) return {1, 0};
+    const int rank = rankOnSide(end.slot, end.crossing);
+    if (end.slot == a2) return {0, rank};
+    if (end.slot == b1) return {2, rank};
+    return {end.slot == a1 ? 0 : 2, -rank};
+  };
+  struct DiagonalCrossing {
+    std::pair<int, int> onSideI, onSideJ;
+    double s;  // where it crosses, l = 0 to k = 1, from the positions
+    int id;
+  };
+  std::vector<DiagonalCrossing> onDiagonal;
+
   const Vec2& k = p[2];
   const Vec2& l = p[3];
   const Vec2 diagonal = k - l;
-  const double sideOfI = cross(diagonal, p[0] - l);
-  const auto onDiagonal = [&](const End& end) { return end.crossing < 0 && corner(end.slot) >= 2; };
+  const double sideOfI = cross(diagonal, p[0] - l) > 0.0 ? 1.0 : -1.0;
   for (Segment piece : pieces) {
     // Orient the piece along its input edge.
     double wa = inputWeight(piece.a, piece.inputEdge), wb = inputWeight(piece.b, piece.inputEdge);
@@ -199,21 +235,23 @@ void FlipReplay::flip(int e) {
       std::swap(piece.a, piece.b);
       std::swap(wa, wb);
     }
-    const Vec2 pa = position(piece.a), pb = position(piece.b);
-    const double oa = onDiagonal(piece.a) ? 0.0 : cross(diagonal, pa - l) * sideOfI;
-    const double ob = onDiagonal(piece.b) ? 0.0 : cross(diagonal, pb - l) * sideOfI;
-    if (oa == 0.0 && ob == 0.0) {
+    const int sa = sideOf(piece.a), sb = sideOf(piece.b);
+    if (sa == 0 && sb == 0) {
       coincidentInput_[std::size_t(e)] = piece.inputEdge;
       continue;
     }
-    if (oa * ob >= 0.0) {
-      const bool inA = oa + ob > 0.0;
+    if (sa * sb >= 0) {
+      const bool inA = sa + sb > 0;
       faceSegments_[std::size_t(inA ? faceA : faceB)].push_back(
           {piece.inputEdge, newEnd(piece.a, inA), newEnd(piece.b, inA)});
       continue;
     }
-    // The piece crosses the new diagonal at x = pa + t (pb - pa) = l + s (k - l).
-    const double t = oa / (oa - ob);
+    // The piece crosses the new diagonal at x = pa + t (pb - pa) = l + s (k - l); distances to
+    // the diagonal that rounding puts on the wrong side count as 0.
+    const Vec2 pa = position(piece.a), pb = position(piece.b);
+    const double da = std::max(0.0, sa * sideOfI * cross(diagonal, pa - l));
+    const double db = std::max(0.0, sb * sideOfI * cross(diagonal, pb - l));
+    const double t = da + db > 0.0 ? da / (da + db) : 0.5;
     const Vec2 d = pb - pa;
     const Vec2 x = pa + t * d;
     const double s = std::clamp((x - l).dot(diagonal) / diagonal.squaredNorm(), 0.0, 1.0);
@@ -250,17 +288,34 @@ void FlipReplay::flip(int e) {
       logRatio = std::log(w / (1.0 - w)) + std::log((1.0 - m) / m);
     }
     const double m = chordWeight(t);
-    const double alongInput = 1.0 / (1.0 + std::exp(-logRatio) * (1.0 - m) / m);
-    // The new edge runs l -> k (IntrinsicTriangulation::flip keeps halfedge(e) = a0).
-    const double alongIntrinsic = rescale(s, -du[3], -du[2]);
+    double alongInput = 1.0 / (1.0 + std::exp(-logRatio) * (1.0 - m) / m);
+    // Near-degenerate pieces (ends almost at one point, or almost on the circle): between the
+    // piece's ends, where the input edge must cross.
+    if (!std::isfinite(alongInput)) alongInput = wa + t * (wb - wa);
+    alongInput = std::clamp(alongInput, wa, wb);
     const int id = int(crossings_.size());
-    crossings_.push_back({piece.inputEdge, e, alongIntrinsic, alongInput});
-    edgeCrossings_[std::size_t(e)].push_back(id);
-    const bool aInA = oa > 0.0;
+    crossings_.push_back({piece.inputEdge, e, 0.0, alongInput});
+    const bool aInA = sa > 0;
+    onDiagonal.push_back({along(aInA ? piece.a : piece.b), along(aInA ? piece.b : piece.a), s, id});
     faceSegments_[std::size_t(aInA ? faceA : faceB)].push_back(
         {piece.inputEdge, newEnd(piece.a, aInA), End{aInA ? a0 : b0, id}});
     faceSegments_[std::size_t(aInA ? faceB : faceA)].push_back(
         {piece.inputEdge, End{aInA ? b0 : a0, id}, newEnd(piece.b, !aInA)});
+  }
+  // The new edge runs l -> k (IntrinsicTriangulation::flip keeps halfedge(e) = a0): its crossings
+  // in their order from l, which is the reverse of their order from k on both paths, and the
+  // positions, sorted, handed out in that order so that rounding cannot reorder them.
+  std::sort(onDiagonal.begin(), onDiagonal.end(),
+            [](const DiagonalCrossing& x, const DiagonalCrossing& y) {
+              return std::tie(y.onSideI, y.onSideJ) < std::tie(x.onSideI, x.onSideJ);
+            });
+  std::vector<double> positions;
+  for (const DiagonalCrossing& c : onDiagonal) positions.push_back(c.s);
+  std::sort(positions.begin(), positions.end());
+  for (std::size_t n = 0; n < onDiagonal.size(); ++n) {
+    const int id = onDiagonal[n].id;
+    crossings_[std::size_t(id)].alongIntrinsic = rescale(positions[n], -du[3], -du[2]);
+    edgeCrossings_[std::size_t(e)].push_back(id);
   }
   tri_.flip(e);
 }
@@ -307,11 +362,11 @@ IntrinsicOverlay FlipReplay::overlay(const Eigen::VectorXd& u,
       cornerNode[std::size_t(before)] = int(nodes.size());
       nodes.push_back(
           {3 * f + before, -1, cornerUV[std::size_t(before)], tri_.tip(3 * f + before), {}});
-      std::vector<std::pair<double, int>> along;
-      for (int c : edgeCrossings_[std::size_t(tri_.edge(s))]) along.push_back({towardTip(s, c), c});
-      std::sort(along.begin(), along.end());
-      for (const auto& [beta, c] : along) {
-        const double mu = rescale(beta, u[tri_.tail(s)], u[tri_.tip(s)]);
+      // From tail(s) to tip(s).
+      std::vector<int> along = edgeCrossings_[std::size_t(tri_.edge(s))];
+      if (tri_.halfedge(tri_.edge(s)) != s) std::reverse(along.begin(), along.end());
+      for (int c : along) {
+        const double mu = rescale(towardTip(s, c), u[tri_.tail(s)], u[tri_.tip(s)]);
         crossingNode[c * 3 + side] = int(nodes.size());
         nodes.push_back(
             {s,
@@ -377,6 +432,7 @@ IntrinsicOverlay FlipReplay::overlay(const Eigen::VectorXd& u,
             uv[std::size_t(r)] = nodes[std::size_t(corners[std::size_t(r)])].uv;
             vs[std::size_t(r)] = nodes[std::size_t(corners[std::size_t(r)])].vertex;
           }
+          out.degenerateCells += !(cross(uv[1] - uv[0], uv[2] - uv[0]) > 0.0);
           faceUV.push_back(uv);
           faceVertices.push_back(vs);
           out.intrinsicFace.push_back(f);

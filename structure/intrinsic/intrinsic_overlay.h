@@ -41,6 +41,10 @@ struct IntrinsicOverlay {
   /// triangles on its sides give, relative to the edge: zero up to rounding when the replayed
   /// correspondence is consistent.
   double maxLengthMismatch = 0.0;
+  /// Overlay faces of zero or negative area in the flat metric: crossings that rounding put at one
+  /// point of an intrinsic edge (or at its end), after tens of thousands of flips of slivers. The
+  /// subdivision is still combinatorially sound, but such a metric cannot be laid out.
+  int degenerateCells = 0;
 };
 
 /// Replays `flips` (IntrinsicTriangulation::flippedEdges of a triangulation built from `input`) and
@@ -48,9 +52,10 @@ struct IntrinsicOverlay {
 /// its lengths at scale factors `u` (Delaunay at a converged u satisfies the triangle
 /// inequality), or a metric moved from them on the same triangles (holonomy_quantization.h). The
 /// points of an intrinsic edge keep their place along it (set by u), and the cells of an intrinsic
-/// triangle follow it by the affine map between its two shapes, so they stay convex. Throws
-/// InputError on sizes that do not match and InternalError when rounding defeats the
-/// construction.
+/// triangle follow it by the affine map between its two shapes, so they stay convex. Which cell
+/// is where is decided combinatorially (input edges do not cross one another), so rounding moves
+/// points but cannot tangle the subdivision; see degenerateCells. Throws InputError on sizes that
+/// do not match.
 IntrinsicOverlay intrinsicOverlay(const TriMesh& input, const std::vector<int>& flips,
                                   const Eigen::VectorXd& u, const Eigen::VectorXd& lengths);
 

@@ -26,25 +26,6 @@ std::array<double, 3> faceSides(const IntrinsicTriangulation& tri, int f,
 }
 
 // Angle sums per vertex at u.
-Eigen::VectorXd angleSums(const IntrinsicTriangulation& tri, const Eigen::VectorXd& u) {
-  Eigen::VectorXd sums = Eigen::VectorXd::Zero(tri.vertexCount());
-  for (int f = 0; f < tri.faceCount(); ++f) {
-    const auto l = faceSides(tri, f, u);
-    const auto angle = triangleAngles(l[0], l[1], l[2]);
-    // The corner opposite halfedge h is at the tip of next(h).
-    for (int k = 0; k < 3; ++k) sums[tri.tip(tri.next(3 * f + k))] += angle[k];
-  }
-  return sums;
-}
-
-Eigen::VectorXd curvaturesFromAngleSums(const IntrinsicTriangulation& tri,
-                                        const Eigen::VectorXd& sums) {
-  Eigen::VectorXd k(sums.size());
-  for (int v = 0; v < tri.vertexCount(); ++v)
-    k[v] = (tri.isBoundaryVertex(v) ? kPi : 2.0 * kPi) - sums[v];
-  return k;
-}
-
 void checkSize(const IntrinsicTriangulation& tri, const Eigen::VectorXd& u) {
   MSPLINE_ASSERT(u.size() == tri.vertexCount(), "one scale factor per vertex");
 }
@@ -228,9 +209,19 @@ Eigen::VectorXd intrinsicCornerAngles(const IntrinsicTriangulation& tri, const E
   return angles;
 }
 
+Eigen::VectorXd curvaturesFromCornerAngles(const IntrinsicTriangulation& tri,
+                                           const Eigen::VectorXd& cornerAngles) {
+  MSPLINE_ASSERT(cornerAngles.size() == 3 * tri.faceCount(), "one angle per halfedge");
+  Eigen::VectorXd sums = Eigen::VectorXd::Zero(tri.vertexCount());
+  // The corner opposite halfedge h is at the tip of next(h).
+  for (int h = 0; h < 3 * tri.faceCount(); ++h) sums[tri.tip(tri.next(h))] += cornerAngles[h];
+  for (int v = 0; v < tri.vertexCount(); ++v)
+    sums[v] = (tri.isBoundaryVertex(v) ? kPi : 2.0 * kPi) - sums[v];
+  return sums;
+}
+
 Eigen::VectorXd intrinsicCurvatures(const IntrinsicTriangulation& tri, const Eigen::VectorXd& u) {
-  checkSize(tri, u);
-  return curvaturesFromAngleSums(tri, angleSums(tri, u));
+  return curvaturesFromCornerAngles(tri, intrinsicCornerAngles(tri, u));
 }
 
 double intrinsicEnergy(const IntrinsicTriangulation& tri, const Eigen::VectorXd& u,

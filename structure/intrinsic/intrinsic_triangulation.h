@@ -110,6 +110,10 @@ Eigen::VectorXd intrinsicCornerAngles(const IntrinsicTriangulation& tri, const E
 /// Curvature per vertex at u: 2 pi - angle sum inside, pi - angle sum on the boundary.
 Eigen::VectorXd intrinsicCurvatures(const IntrinsicTriangulation& tri, const Eigen::VectorXd& u);
 
+/// The same from corner angles already computed (intrinsicCornerAngles).
+Eigen::VectorXd curvaturesFromCornerAngles(const IntrinsicTriangulation& tri,
+                                           const Eigen::VectorXd& cornerAngles);
+
 /// The vertex-scaling Ricci energy of Bobenko, Pinkall and Springborn on this triangulation, up to
 /// a constant that depends only on the face count:
 ///   E(u) = sum_i (Theta_i - angle sum_i(u)) u_i + sum_faces sum_k [(2 alpha_k - pi)
