@@ -133,9 +133,10 @@ constexpr int kLowestQuarterTurns = -4;
 
 // Largest-remainder rounding of the cone curvatures to multiples of pi/2 summing to `total`
 // quarter turns, no multiple above `largest` (at most 3: the cone angle stays positive) or below
-// `lowest`.
+// kLowestQuarterTurns.
 std::vector<int> roundToQuarterTurns(const std::vector<Cone>& cones, long total, int largest,
-                                     int lowest, const ConePlacementOptions& options) {
+                                     const ConePlacementOptions& options) {
+  const int lowest = kLowestQuarterTurns;
   std::vector<int> k(cones.size());
   std::vector<double> remainder(cones.size());
   long sum = 0;
@@ -176,8 +177,7 @@ std::vector<int> roundToQuarterTurns(const std::vector<Cone>& cones, long total,
   if (sum != total) {
     failPlacement(options, "cone placement: " + std::to_string(cones.size()) +
                                " cones cannot be quantized to multiples of pi/2 with positive " +
-                               (lowest == kLowestQuarterTurns ? "angles up to 4 pi" : "angles") +
-                               " summing to 2 pi chi; place more cones");
+                               "angles up to 4 pi summing to 2 pi chi; place more cones");
   }
   return k;
 }
@@ -360,6 +360,13 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
     // Only for corners of valence 3: with valence 2 the cap moved the default layouts' cones and
     // its fits folded more on some meshes (femur, cow, diplodocus), fewer on others.
     const double capCurvature = options.quantize && options.maxQuarterTurns == 1 ? kQuarter : 0.0;
+    // Likewise below: rounding keeps cone angles within 4 pi (a layout's corner of valence 8), so
+    // curvature beyond -4 quarter turns draws more cones to where it is, rather than going to
+    // cones far away in the rounding (femur.off and turbine.off had cones of -7 quarter turns;
+    // clamped in the rounding alone, their fits folded three times as much).
+    const double floorCurvature = options.quantize && closed
+                                      ? kLowestQuarterTurns * kQuarter
+                                      : -std::numeric_limits<double>::infinity();
     std::string stop;
     for (;;) {
       const double distortion = result.distortionPerRound.back();
@@ -405,15 +412,16 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
       // unknown) replaces the gauge u_0 = 0.
       const auto m = static_cast<Eigen::Index>(cones.size());
       const Eigen::Index size = closed ? m + 1 : m;
-      std::vector<char> capped(std::size_t(m), 0);
+      // The bound a cone's weight is held at, or NaN while it is free.
+      std::vector<double> capped(std::size_t(m), std::numeric_limits<double>::quiet_NaN());
       Eigen::VectorXd weights;
       for (;;) {
         Eigen::MatrixXd capacitance = Eigen::MatrixXd::Zero(size, size);
         Eigen::VectorXd rhs(size);
         for (Eigen::Index i = 0; i < m; ++i) {
-          if (capped[std::size_t(i)]) {
+          if (!std::isnan(capped[std::size_t(i)])) {
             capacitance(i, i) = 1.0;
-            rhs[i] = capCurvature;
+            rhs[i] = capped[std::size_t(i)];
             continue;
           }
           for (Eigen::Index j = 0; j < m; ++j) capacitance(i, j) = greens[j][cones[i].vertex];
@@ -425,20 +433,21 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
           rhs[m] = inputCurvature.sum();
         }
         weights = capacitance.partialPivLu().solve(rhs);
-        if (!(capCurvature > 0.0)) break;
-        // The cone carrying the most curvature above the cap gets the cap as its weight (u is
-        // then free there), one at a time, while another cone stays free to carry the rest
-        // (closed).
+        // The cone farthest beyond a bound gets the bound as its weight (u is then free there),
+        // one at a time, while another cone stays free to carry the rest (closed).
+        const auto beyond = [&](Eigen::Index i) {
+          return std::max(capCurvature > 0.0 ? weights[i] - capCurvature : 0.0,
+                          floorCurvature - weights[i]);
+        };
         Eigen::Index worst = -1;
         long free = 0;
         for (Eigen::Index i = 0; i < m; ++i) {
-          if (capped[std::size_t(i)]) continue;
+          if (!std::isnan(capped[std::size_t(i)])) continue;
           ++free;
-          if (weights[i] > capCurvature + 1e-9 && (worst < 0 || weights[i] > weights[worst]))
-            worst = i;
+          if (beyond(i) > 1e-9 && (worst < 0 || beyond(i) > beyond(worst))) worst = i;
         }
         if (worst < 0 || (closed && free <= 1)) break;
-        capped[std::size_t(worst)] = 1;
+        capped[std::size_t(worst)] = weights[worst] > 0.0 ? capCurvature : floorCurvature;
       }
       u = flat;
       for (Eigen::Index j = 0; j < m; ++j) u += weights[j] * greens[j];
@@ -484,14 +493,7 @@ ConePlacementResult placeCones(const TriMesh& mesh, const ConePlacementOptions& 
       const int largest = options.maxQuarterTurns;
       std::vector<int> k;
       if (closed) {
-        // Past maxCones, placement went on for room to round: every cone then stays within 4 pi
-        // (cheese.off's 394 cones). Below it, the cones keep what the greedy placement gave
-        // them, down to 7 quarter turns (turbine, femur): clamped, the excess went to other cones
-        // and femur's and turbine's fits folded three times as much.
-        const bool needsRoom = static_cast<long>(cones.size()) > options.maxCones;
-        k = roundToQuarterTurns(cones, 4 * chi, largest,
-                                needsRoom ? kLowestQuarterTurns : std::numeric_limits<int>::min(),
-                                options);
+        k = roundToQuarterTurns(cones, 4 * chi, largest, options);
       } else {
         for (const Cone& c : cones)
           k.push_back(std::min(largest, static_cast<int>(std::lround(c.curvature / kQuarter))));

@@ -48,13 +48,14 @@ struct ConePlacementOptions {
   /// Round every cone curvature to a multiple k pi / 2 (see ConePlacementResult::quarterTurns).
   /// Automatic placement then goes on until the cones can carry 2 pi chi in such multiples; with
   /// maxQuarterTurns 1, each round caps a cone's curvature at one quarter turn (the curvature
-  /// above it stays in the distortion, so the next cones go near it).
+  /// above it stays in the distortion, so the next cones go near it); on closed surfaces each
+  /// round likewise holds a cone's curvature at -4 quarter turns at least.
   /// On closed surfaces the integers sum to exactly 4 chi (largest-remainder rounding); then
   /// quarter turns move between cones (closed) or are added or taken (with a boundary) while that
   /// lowers the area-weighted squared conformal factor of the linear solve, so that the rounding
   /// errors do not pile up (-4 <= k). Cones that end at 0 are dropped. Every cone angle
-  /// 2 pi - k pi / 2 stays positive (k <= 3), and at most 4 pi (-4 <= k) where placement went
-  /// past maxCones.
+  /// 2 pi - k pi / 2 stays positive (k <= 3), and on closed surfaces at most 4 pi (-4 <= k: a
+  /// layout corner of valence 8 at most).
   bool quantize = false;
   /// With `quantize`: the largest multiple k allowed. 3 (default) lets a cone angle go down to
   /// pi/2. In a quad layout a cone of k quarter turns is a corner of valence 4 - k: 2 keeps every

@@ -113,7 +113,8 @@ TEST_CASE("flatten_surface: genus 133, the handle rotations quantized with flips
   // loops quarter turns would degenerate the flip solver's triangles: the quantization flips
   // further, and the surface laid out is the common subdivision with its triangulation. Its
   // -1,056 quarter turns need at least 264 cones of angle at most 4 pi. Cone sets whose
-  // common subdivision fails are replaced (rejected counts).
+  // common subdivision has cells of zero area, or whose layout through its slivers misses
+  // quarter turns, are replaced (rejected counts).
   const TriMesh mesh = test::realMesh("cheese.off");
   FlattenOptions options;
   options.quantize = true;
