@@ -5,6 +5,7 @@
 #include <string>
 
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/layout/motorcycle_layout.h"
 #include "mspline/structure/ricci/cone_placement.h"
 
 namespace mspline::spline {
@@ -31,6 +32,8 @@ QuadLayoutFlattening quadLayoutFlattening(const structure::TriMesh& mesh, int mi
   // Knot lines must survive chart changes: quarter-turn cones and holonomy.
   options.quantize = true;
   options.maxConeQuarterTurns = 4 - minCornerValence;
+  // The layout traces the seams with the default options: their angles must hold to its tolerance.
+  options.seamTolerance = structure::MotorcycleLayoutOptions().angleTolerance;
   if (minCornerValence == 3) options.minConeSeparation = cellSideOnSurface(mesh, build);
   return {options, structure::midpointLevelsForQuarterTurnCones(mesh, options.maxConeQuarterTurns)};
 }

@@ -7,7 +7,6 @@
 #include "mspline/structure/core/errors.h"
 #include "mspline/structure/core/stopwatch.h"
 #include "mspline/structure/intrinsic/intrinsic_flattening.h"
-#include "mspline/structure/layout/motorcycle_layout.h"
 #include "mspline/structure/mesh/boundary_loops.h"
 #include "mspline/structure/ricci/circle_packing_energy.h"
 #include "mspline/structure/ricci/cone_placement.h"
@@ -276,7 +275,7 @@ Flattening flattenWithCones(const TriMesh& mesh, const FlattenOptions& options,
   out.areaDistortion = areaDistortion(out.surface(), out.flatLengths, flow.u);
   out.seamRotations = seamRotations(out.layout);
   if (out.holonomy && out.holonomy->converged &&
-      out.seamRotations.maxQuarterTurnError > MotorcycleLayoutOptions().angleTolerance)
+      out.seamRotations.maxQuarterTurnError > options.seamTolerance)
     report(progress, "warning: the laid-out seams miss quarter turns by up to " +
                          std::to_string(out.seamRotations.maxQuarterTurnError) + " rad");
   out.converged = out.layout.flippedTriangles == 0;
@@ -291,10 +290,10 @@ Flattening flattenWithCones(const TriMesh& mesh, const FlattenOptions& options,
 // quarter turns to what the quad layout demands: after tens of thousands of flips the common
 // subdivision can have cells of 1e-13 of the mean area, and the layout through them drifts
 // (cheese.off with 388 cones: 6e-5 rad, where its residual is 2e-12).
-bool handlesFailed(const Flattening& flattening) {
+bool handlesFailed(const Flattening& flattening, const FlattenOptions& options) {
   return flattening.holonomy &&
          (!flattening.holonomy->converged || !flattening.converged ||
-          flattening.seamRotations.maxQuarterTurnError > MotorcycleLayoutOptions().angleTolerance);
+          flattening.seamRotations.maxQuarterTurnError > options.seamTolerance);
 }
 
 bool sameCones(const std::vector<Cone>& a, const std::vector<Cone>& b) {
@@ -319,7 +318,7 @@ Flattening flattenSurface(const TriMesh& mesh, const FlattenOptions& options,
   Stopwatch clock;
   Flattening out = flattenWithCones(mesh, options, chooseCones(mesh, options), clock, progress);
   const bool automatic = !options.cones && !options.singleCone && options.coneCount < 0;
-  if (!automatic || !handlesFailed(out)) return out;
+  if (!automatic || !handlesFailed(out, options)) return out;
 
   // The handle rotations depend on where the cones are; the Newton steps that quantize them can
   // degenerate the fixed triangulation for one cone set and not for another. Other automatic
@@ -364,7 +363,7 @@ Flattening flattenSurface(const TriMesh& mesh, const FlattenOptions& options,
       else
         same->second += stage.second;
     }
-    if (candidate.converged && !handlesFailed(candidate)) {
+    if (candidate.converged && !handlesFailed(candidate, retry)) {
       candidate.rejectedConeCounts = rejected;
       candidate.stageSeconds = spent;
       return candidate;

@@ -36,6 +36,10 @@ struct FlattenOptions {
   /// Cone curvatures multiples of pi/2 (seamless metrics), at most this many quarter turns.
   bool quantize = false;
   int maxConeQuarterTurns = 3;
+  /// Quantized handle rotations: a metric whose laid-out seams miss quarter turns by more than
+  /// this (radians) is rejected like one that cannot be quantized. A quad layout of the result
+  /// needs at most its MotorcycleLayoutOptions::angleTolerance (the same default).
+  double seamTolerance = 1e-6;
   /// Automatic cones at least this far apart along edges (ConePlacementOptions::
   /// minSeparationLength); 0: two edges apart.
   double minConeSeparation = 0.0;

@@ -251,3 +251,27 @@ TEST_CASE("flatten_surface: the outcome of automatic cone placement is kept with
   CHECK(same.conePlacement.empty());
   CHECK_FALSE(same.reachedMaxCones);
 }
+
+TEST_CASE("flatten_surface: seams that miss quarter turns by more than asked are rejected",
+          "[structure]") {
+  // Quantized, eight.off's seams miss quarter turns by rounding only; a tolerance below that miss
+  // rejects its cone set, and another automatic set whose seams hold to it is taken.
+  const TriMesh mesh = test::realMesh("eight.off");
+  FlattenOptions options;
+  options.quantize = true;
+  const Flattening kept = structure::flattenSurface(mesh, options);
+  REQUIRE(kept.converged);
+  REQUIRE(kept.holonomy);
+  REQUIRE(kept.holonomy->converged);
+  CHECK(kept.rejectedConeCounts.empty());
+  const double miss = kept.seamRotations.maxQuarterTurnError;
+  INFO("seams miss quarter turns by " << miss);
+  CHECK(miss <= options.seamTolerance);
+  REQUIRE(miss > 0.0);
+  options.seamTolerance = miss / 2.0;
+  const Flattening strict = structure::flattenSurface(mesh, options);
+  REQUIRE(strict.converged);
+  CHECK(strict.rejectedConeCounts.size() >= 1);
+  CHECK(strict.cones.size() != kept.cones.size());
+  CHECK(strict.seamRotations.maxQuarterTurnError <= options.seamTolerance);
+}
