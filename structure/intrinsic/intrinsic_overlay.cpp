@@ -42,6 +42,8 @@ struct Crossing {
   // Barycentric weight of the input edge's to-vertex (of its halfedge 0): at u = 0 the fraction
   // of its Euclidean length.
   double alongInput = 0.0;
+  // Its place in edgeCrossings_ of its intrinsic edge.
+  int rankOnEdge = -1;
 };
 
 // End of a segment inside a face: the corner at tip(slot) when crossing < 0, otherwise a crossing
@@ -80,9 +82,9 @@ class FlipReplay {
   // Place of crossing c among the crossings on the side of slot, counted from tail(slot).
   int rankOnSide(int slot, int c) const {
     const std::vector<int>& onEdge = edgeCrossings_[std::size_t(tri_.edge(slot))];
-    const auto it = std::find(onEdge.begin(), onEdge.end(), c);
-    if (it == onEdge.end()) throw InternalError("overlay: a segment ends off its face");
-    const int rank = int(it - onEdge.begin());
+    const int rank = crossings_[std::size_t(c)].rankOnEdge;
+    if (rank < 0 || rank >= int(onEdge.size()) || onEdge[std::size_t(rank)] != c)
+      throw InternalError("overlay: a segment ends off its face");
     return tri_.halfedge(tri_.edge(slot)) == slot ? rank : int(onEdge.size()) - 1 - rank;
   }
   // alongInput at a segment end (0 or 1 at a corner: the input edge's endpoints).
@@ -170,7 +172,10 @@ void FlipReplay::flip(int e) {
   if (!beyondDiagonal.empty()) throw InternalError("overlay: a diagonal crossing has no segment");
   if (coincidentInput_[std::size_t(e)] >= 0)
     pieces.push_back({coincidentInput_[std::size_t(e)], End{a2, -1}, End{a0, -1}});
-  for (int c : edgeCrossings_[std::size_t(e)]) crossings_[std::size_t(c)].intrinsicEdge = -1;
+  for (int c : edgeCrossings_[std::size_t(e)]) {
+    crossings_[std::size_t(c)].intrinsicEdge = -1;
+    crossings_[std::size_t(c)].rankOnEdge = -1;
+  }
   edgeCrossings_[std::size_t(e)].clear();
   coincidentInput_[std::size_t(e)] = -1;
   faceSegments_[std::size_t(faceA)].clear();
@@ -315,6 +320,7 @@ void FlipReplay::flip(int e) {
   for (std::size_t n = 0; n < onDiagonal.size(); ++n) {
     const int id = onDiagonal[n].id;
     crossings_[std::size_t(id)].alongIntrinsic = rescale(positions[n], -du[3], -du[2]);
+    crossings_[std::size_t(id)].rankOnEdge = int(edgeCrossings_[std::size_t(e)].size());
     edgeCrossings_[std::size_t(e)].push_back(id);
   }
   tri_.flip(e);
