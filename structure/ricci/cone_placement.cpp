@@ -274,6 +274,12 @@ Eigen::VectorXd boundedCapacitanceWeights(const Eigen::MatrixXd& system, Eigen::
       if (beyond(i) > 1e-9 && (worst < 0 || beyond(i) > beyond(worst))) worst = i;
     }
     if (worst < 0 || (closed && free <= 1)) return weights;
+    // Holding cone k keeps the system solvable iff B_kk != 0; say so rather than spread NaNs.
+    if (!(std::abs(inverse(worst, worst)) > 0.0) || !std::isfinite(inverse(worst, worst)))
+      throw SolverError(
+          "cone placement: holding a cone at its bound left the capacitance system "
+          "singular (" +
+          std::to_string(cones) + " cones)");
     const double held = weights[worst] > 0.0 ? cap : floor;
     bound[std::size_t(worst)] = held;
     --free;
