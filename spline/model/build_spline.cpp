@@ -1,7 +1,10 @@
 #include "mspline/spline/model/build_spline.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
+#include <numeric>
 #include <optional>
 
 #include "mspline/spline/tribspline/tri_bspline.h"
@@ -39,29 +42,83 @@ void copySurface(const TriMesh& surface, SplineModel& model) {
   }
 }
 
-// Interior points of a barycentric grid with enough intervals per side for `perTriangle` points.
-std::vector<Eigen::Vector3d> barycentricSamples(int perTriangle) {
+// Barycentric coordinates of the points of a square lattice of spacing `spacing` that fall inside
+// the triangle whose edge from corner k to corner k + 1 has length `lengths[k]`, the lattice
+// aligned with the longest edge and offset by half a spacing from its first corner. A lattice,
+// unlike a barycentric grid, is as dense across a long thin triangle as along it.
+std::vector<Eigen::Vector3d> latticeSamples(const std::array<double, 3>& lengths, double spacing) {
   std::vector<Eigen::Vector3d> samples;
-  if (perTriangle <= 0) return samples;
-  const int steps = int(std::ceil((std::sqrt(8.0 * perTriangle + 1.0) - 1.0) / 2.0)) + 2;
-  for (int i = 1; i < steps; ++i)
-    for (int j = 1; i + j < steps; ++j)
-      samples.emplace_back(double(steps - i - j) / steps, double(i) / steps, double(j) / steps);
+  const int longest = int(std::max_element(lengths.begin(), lengths.end()) - lengths.begin());
+  // Corners a, b on the longest edge, c opposite; a at the origin, b on the x axis.
+  const int a = longest, b = (longest + 1) % 3, c = (longest + 2) % 3;
+  const double ab = lengths[std::size_t(a)], bc = lengths[std::size_t(b)],
+               ca = lengths[std::size_t(c)];
+  if (!(ab > 0.0) || !(spacing > 0.0)) return samples;
+  const double cx = (ab * ab + ca * ca - bc * bc) / (2.0 * ab);
+  const double cy = std::sqrt(std::max(0.0, ca * ca - cx * cx));
+  const double area = 0.5 * ab * cy;
+  if (!(area > 0.0)) return samples;
+  for (double y = 0.5 * spacing; y < cy; y += spacing)
+    for (double x = 0.5 * spacing; x < ab; x += spacing) {
+      // Barycentric weights from the signed areas opposite each corner.
+      const double wc = 0.5 * ab * y / area;
+      const double wb = 0.5 * (x * cy - y * cx) / area;
+      const double wa = 1.0 - wb - wc;
+      if (wa <= 0.0 || wb <= 0.0 || wc <= 0.0) continue;
+      Eigen::Vector3d point;
+      point[a] = wa;
+      point[b] = wb;
+      point[c] = wc;
+      samples.push_back(point);
+    }
   return samples;
 }
 
-// Points inside every face (enough for the wanted samples per basis function) and their 3D
-// positions appended to `targets`; `locate` gives each its parameter.
+// The surface's faces in the flat metric `flatLengths` (per edge): per face of the model, the
+// length of its edge from corner k to corner k + 1, and its area.
+struct FlatFaces {
+  std::vector<std::array<double, 3>> lengths;
+  std::vector<double> areas;
+};
+
+FlatFaces flatFaces(const TriMesh& surface, const Eigen::VectorXd& flatLengths,
+                    const SplineModel& model) {
+  FlatFaces flat;
+  flat.lengths.resize(surface.n_faces());
+  flat.areas.resize(surface.n_faces());
+  for (const auto f : surface.faces()) {
+    const auto& corners = model.surfaceFaces[std::size_t(f.idx())];
+    auto& l = flat.lengths[std::size_t(f.idx())];
+    for (const auto h : surface.fh_range(f)) {
+      const auto k =
+          std::find(corners.begin(), corners.end(), surface.from_vertex_handle(h).idx()) -
+          corners.begin();
+      l[std::size_t(k)] = flatLengths[surface.edge_handle(h).idx()];
+    }
+    const double s = 0.5 * (l[0] + l[1] + l[2]);
+    flat.areas[std::size_t(f.idx())] =
+        std::sqrt(std::max(0.0, s * (s - l[0]) * (s - l[1]) * (s - l[2])));
+  }
+  return flat;
+}
+
+// The lattice spacing that gives `wanted` points over a flat area `area` (infinite: none).
+double latticeSpacing(double area, double wanted) {
+  return wanted > 0.0 ? std::sqrt(area / wanted) : std::numeric_limits<double>::infinity();
+}
+
+// Points inside the faces, on a square lattice in each face's flat shape of spacing
+// `faceSpacing[f]`, and their 3D positions appended to `targets`; `locate` gives each its
+// parameter. Callers choose the spacings so that with the vertices there are about as many
+// samples per basis function everywhere. Counted per face, as they were, a scan's faces far apart
+// in flat area, or long and thin, left basis functions without samples.
 template <class Locate>
-void addFaceSamples(const SplineModel& model, int numBasis, double perBasis,
-                    std::vector<int>& sampleFaces, std::vector<Eigen::RowVector3d>& targets,
-                    Locate&& locate) {
-  const double faces = double(model.surfaceFaces.size());
-  const auto inside = barycentricSamples(
-      int(std::ceil((perBasis * numBasis - double(model.surfaceVertices.rows())) / faces)));
+void addFaceSamples(const SplineModel& model, const FlatFaces& flat,
+                    const std::vector<double>& faceSpacing, std::vector<int>& sampleFaces,
+                    std::vector<Eigen::RowVector3d>& targets, Locate&& locate) {
   for (std::size_t f = 0; f < model.surfaceFaces.size(); ++f) {
     const auto& corners = model.surfaceFaces[f];
-    for (const Eigen::Vector3d& b : inside) {
+    for (const Eigen::Vector3d& b : latticeSamples(flat.lengths[f], faceSpacing[f])) {
       locate(int(f), b);
       sampleFaces.push_back(int(f));
       targets.push_back(b[0] * model.surfaceVertices.row(corners[0]) +
@@ -69,6 +126,24 @@ void addFaceSamples(const SplineModel& model, int numBasis, double perBasis,
                         b[2] * model.surfaceVertices.row(corners[2]));
     }
   }
+}
+
+// Per surface face, how many times splitCellsAroundCones will halve the cells at its corners
+// (`vertexSites`: the vertices on `tmesh`), the most of the three.
+std::vector<int> coneSplitLevels(const TMesh& tmesh, const std::vector<FacePoint>& vertexSites,
+                                 const std::vector<std::array<int, 3>>& surfaceFaces) {
+  TMesh split = tmesh;
+  std::vector<FacePoint> sites = vertexSites;
+  if (refineAroundCones(split, sites) == 0) return {};
+  const auto area = [](const TMeshFace& face) { return face.width * face.height; };
+  std::vector<int> faceLevel(surfaceFaces.size(), 0);
+  for (std::size_t f = 0; f < surfaceFaces.size(); ++f)
+    for (const int v : surfaceFaces[f]) {
+      const double ratio = area(tmesh.faces[std::size_t(vertexSites[std::size_t(v)].face)]) /
+                           area(split.faces[std::size_t(sites[std::size_t(v)].face)]);
+      faceLevel[f] = std::max(faceLevel[f], int(std::lround(0.5 * std::log2(ratio))));
+    }
+  return faceLevel;
 }
 
 Eigen::MatrixX3d toMatrix(const std::vector<Eigen::RowVector3d>& rows) {
@@ -169,9 +244,21 @@ void buildTSpline(const BuildSplineOptions& s, const Flattening& flattening,
   // Sample k < V is vertex k.
   setup.tmeshSites = model.surfaceVertexTMeshPoints;
   for (Eigen::Index v = 0; v < vertexCount; ++v) targets.push_back(model.surfaceVertices.row(v));
-  // About one control point per cell.
+  // About one control point per cell, even over the flat metric, and 4^L times as many where the
+  // cells around cones will be split L times.
+  const FlatFaces flat = flatFaces(surface, flattening.flatLengths, model);
+  const double spacing =
+      latticeSpacing(std::accumulate(flat.areas.begin(), flat.areas.end(), 0.0),
+                     s.samplesPerControlPoint * model.tmesh.numFaces() - double(vertexCount));
+  std::vector<double> faceSpacing(flat.areas.size(), spacing);
+  if (s.denserWhereSplit) {
+    const std::vector<int> faceLevel =
+        coneSplitLevels(model.tmesh, model.surfaceVertexTMeshPoints, model.surfaceFaces);
+    for (std::size_t f = 0; f < faceLevel.size(); ++f)
+      faceSpacing[f] = std::ldexp(spacing, -faceLevel[f]);
+  }
   addFaceSamples(
-      model, model.tmesh.numFaces(), s.samplesPerControlPoint, setup.sampleFaces, targets,
+      model, flat, faceSpacing, setup.sampleFaces, targets,
       [&](int f, const Eigen::Vector3d& b) { setup.tmeshSites.push_back(locate(f, b)); });
   setup.targets = toMatrix(targets);
   addStageSeconds(setup.stageSeconds, "locate", clock.lap());
@@ -210,8 +297,26 @@ void buildTriBSpline(const BuildSplineOptions& s, const Flattening& flattening,
   std::vector<Eigen::RowVector3d> targets;
   for (Eigen::Index v = 0; v < model.surfaceVertices.rows(); ++v)
     targets.push_back(model.surfaceVertices.row(v));
-  addFaceSamples(model, perFace * model.domain.faceCount(), s.samplesPerControlPoint,
-                 setup.sampleFaces, targets, [&](int f, const Eigen::Vector3d& b) {
+  // Each domain face carries perFace basis functions: as many samples per domain face, its
+  // vertices counted, on a lattice over the surface faces whose centroids it holds.
+  const FlatFaces flat = flatFaces(surface, flattening.flatLengths, model);
+  std::vector<int> domainFace(flat.areas.size());
+  std::vector<double> domainArea(std::size_t(model.domain.faceCount()), 0.0);
+  std::vector<double> domainWanted(domainArea.size(), s.samplesPerControlPoint * perFace);
+  for (std::size_t f = 0; f < domainFace.size(); ++f) {
+    domainFace[f] =
+        locateOnCoarse(surface, coarse, int(f), Eigen::Vector3d::Constant(1.0 / 3.0)).face;
+    domainArea[std::size_t(domainFace[f])] += flat.areas[f];
+  }
+  for (const auto& location : model.surfaceVertexLocations)
+    domainWanted[std::size_t(location.face)] -= 1.0;
+  std::vector<double> faceSpacing(flat.areas.size());
+  for (std::size_t f = 0; f < domainFace.size(); ++f) {
+    const auto d = std::size_t(domainFace[f]);
+    faceSpacing[f] = latticeSpacing(domainArea[d], domainWanted[d]);
+  }
+  addFaceSamples(model, flat, faceSpacing, setup.sampleFaces, targets,
+                 [&](int f, const Eigen::Vector3d& b) {
                    const auto location = locateOnCoarse(surface, coarse, f, b);
                    setup.domainSites.push_back({location.face, location.barycentric});
                  });

@@ -47,6 +47,10 @@ struct BuildSplineOptions {
   /// Wanted samples per control point: points inside the surface's faces are added where the
   /// vertices alone give fewer (0: vertices only).
   double samplesPerControlPoint = 3.0;
+  /// T-splines: the cells that splitCellsAroundCones will split around cones get as many more
+  /// samples per area as they will have control points (false where the grid is fitted unsplit,
+  /// as by the Catmull-Clark fit).
+  bool denserWhereSplit = true;
   /// Triangular B-splines: per surface vertex, how densely the domain should sample it (empty:
   /// uniformly in the flat metric; structure::CoarseningOptions::density).
   Eigen::VectorXd density;

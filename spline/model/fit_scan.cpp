@@ -246,6 +246,7 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
   BuildSplineOptions build;
   build.kind = options.kind == FitKind::TriBSpline ? SpaceKind::TriBSpline : SpaceKind::TSpline;
   build.control = options.control > 0 ? options.control : options.maxControl * 3 / 4;
+  build.denserWhereSplit = options.kind == FitKind::TSpline;
   FlattenOptions flattenOptions = options.flatten;
   // A coarse polyhedron split at its edge midpoints (the same surface) when its vertices are too
   // few for the quad layout's cones.

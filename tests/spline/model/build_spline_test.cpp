@@ -91,3 +91,70 @@ TEST_CASE("build_spline: a box's T-spline on its six faces is smooth and fold-fr
   CHECK(std::max(d.scanToSurface.max, d.surfaceToScan.max) <= 2e-2);
   CHECK(quality.smoothness.p99Ratio > 1.8);
 }
+
+namespace {
+
+// Samples (vertices included) per cell of the build's T-mesh.
+std::vector<int> samplesPerCell(const spline::SplineSpaceBuild& build) {
+  std::vector<int> count(build.model.tmesh.faces.size(), 0);
+  for (const auto& site : build.tmeshSites) ++count[std::size_t(site.face)];
+  return count;
+}
+
+}  // namespace
+
+TEST_CASE("build_spline: long thin faces sample every cell", "[spline]") {
+  // beam.off's long sides are two triangles each with 6 degree corners: a grid of points in
+  // barycentric steps was nine times sparser along them than across, and missed whole cells.
+  const structure::TriMesh mesh = test::realMesh("beam.off");
+  spline::BuildSplineOptions build;
+  build.kind = spline::SpaceKind::TSpline;
+  build.control = 1000;
+  const spline::QuadLayoutFlattening quad = spline::quadLayoutFlattening(mesh, 3, build);
+  const structure::Flattening flattening = structure::flattenSurface(mesh, quad.options);
+  REQUIRE(flattening.converged);
+  const spline::SplineSpaceBuild space = spline::buildSpline(flattening, build);
+  const std::vector<int> count = samplesPerCell(space);
+  const auto [fewest, most] = std::minmax_element(count.begin(), count.end());
+  CAPTURE(count.size(), *fewest, *most, space.tmeshSites.size());
+  // About 3 samples per cell on a lattice as fine one way as the other.
+  CHECK(*fewest >= 1);
+  CHECK(*most <= 8);
+}
+
+TEST_CASE("build_spline: cells split around cones get samples as dense as their control points",
+          "[spline]") {
+  // elephant.off's vertices are fewer than the samples wanted, so points inside faces make up
+  // most of them. Its cones without room for caps get two or three rings of cells split.
+  const structure::TriMesh mesh = test::realMesh("elephant.off");
+  structure::FlattenOptions flattenOptions;
+  flattenOptions.quantize = true;
+  flattenOptions.maxConeQuarterTurns = 2;
+  const structure::Flattening flattening = structure::flattenSurface(mesh, flattenOptions);
+  REQUIRE(flattening.converged);
+  spline::BuildSplineOptions buildOptions;
+  buildOptions.kind = spline::SpaceKind::TSpline;
+  buildOptions.control = 3000;
+  for (const bool denser : {false, true}) {
+    buildOptions.denserWhereSplit = denser;
+    spline::SplineSpaceBuild build = spline::buildSpline(flattening, buildOptions);
+    const int cells = build.model.tmesh.numFaces();
+    spline::splitCellsAroundCones(build);
+    REQUIRE(build.model.tmesh.numFaces() > cells);
+    // Mean samples per cell among the cells split (a quarter of a cell or less) and the others.
+    double splitSamples = 0.0, splitCells = 0.0, wholeSamples = 0.0, wholeCells = 0.0;
+    const std::vector<int> count = samplesPerCell(build);
+    for (std::size_t f = 0; f < count.size(); ++f) {
+      const auto& face = build.model.tmesh.faces[f];
+      const bool split = face.width * face.height < 0.3;
+      (split ? splitSamples : wholeSamples) += count[f];
+      (split ? splitCells : wholeCells) += 1.0;
+    }
+    const double ratio = (splitSamples / splitCells) / (wholeSamples / wholeCells);
+    CAPTURE(denser, splitCells, wholeCells, ratio);
+    if (denser)
+      CHECK((ratio > 0.6 && ratio < 1.6));
+    else
+      CHECK(ratio < 0.5);
+  }
+}
