@@ -28,6 +28,25 @@ spline::SplineModel tsplineOf(const structure::TriMesh& mesh,
   return build.model;
 }
 
+// beam.off's T-spline space with a corner of valence 3 at each of its eight corners.
+spline::SplineSpaceBuild beamSpace(const structure::TriMesh& mesh) {
+  spline::BuildSplineOptions build;
+  build.kind = spline::SpaceKind::TSpline;
+  build.control = 1000;
+  const spline::QuadLayoutFlattening quad = spline::quadLayoutFlattening(mesh, 3, build);
+  REQUIRE(quad.midpointSubdivisions == 0);
+  const structure::Flattening flattening = structure::flattenSurface(mesh, quad.options);
+  REQUIRE(flattening.converged);
+  return spline::buildSpline(flattening, build);
+}
+
+// Samples (vertices included) per cell of the build's T-mesh.
+std::vector<int> samplesPerCell(const spline::SplineSpaceBuild& build) {
+  std::vector<int> count(build.model.tmesh.faces.size(), 0);
+  for (const auto& site : build.tmeshSites) ++count[std::size_t(site.face)];
+  return count;
+}
+
 }  // namespace
 
 TEST_CASE("build_spline: the faired T-spline of cactus.off has no folds", "[spline][slow]") {
@@ -71,14 +90,7 @@ TEST_CASE("build_spline: a box's T-spline on its six faces is smooth and fold-fr
   // goes down; choosing the least of them (1e-7) let parameter correction fold the surface into
   // fins along the edges (5,712 folded triangles here; 19,958 with 6,000 control points).
   const structure::TriMesh mesh = test::realMesh("beam.off");
-  spline::BuildSplineOptions build;
-  build.kind = spline::SpaceKind::TSpline;
-  build.control = 1000;
-  const spline::QuadLayoutFlattening quad = spline::quadLayoutFlattening(mesh, 3, build);
-  REQUIRE(quad.midpointSubdivisions == 0);
-  const structure::Flattening flattening = structure::flattenSurface(mesh, quad.options);
-  REQUIRE(flattening.converged);
-  spline::SplineSpaceBuild space = spline::buildSpline(flattening, build);
+  spline::SplineSpaceBuild space = beamSpace(mesh);
   CHECK(space.grid.rectangles == 6);
   CHECK(space.grid.frameAngle == 0.0);
   const spline::ControlPointFit fit = spline::fitControlPoints(space, {});
@@ -92,28 +104,11 @@ TEST_CASE("build_spline: a box's T-spline on its six faces is smooth and fold-fr
   CHECK(quality.smoothness.p99Ratio > 1.8);
 }
 
-namespace {
-
-// Samples (vertices included) per cell of the build's T-mesh.
-std::vector<int> samplesPerCell(const spline::SplineSpaceBuild& build) {
-  std::vector<int> count(build.model.tmesh.faces.size(), 0);
-  for (const auto& site : build.tmeshSites) ++count[std::size_t(site.face)];
-  return count;
-}
-
-}  // namespace
-
 TEST_CASE("build_spline: long thin faces sample every cell", "[spline]") {
   // beam.off's long sides are two triangles each with 6 degree corners: a grid of points in
   // barycentric steps was nine times sparser along them than across, and missed whole cells.
   const structure::TriMesh mesh = test::realMesh("beam.off");
-  spline::BuildSplineOptions build;
-  build.kind = spline::SpaceKind::TSpline;
-  build.control = 1000;
-  const spline::QuadLayoutFlattening quad = spline::quadLayoutFlattening(mesh, 3, build);
-  const structure::Flattening flattening = structure::flattenSurface(mesh, quad.options);
-  REQUIRE(flattening.converged);
-  const spline::SplineSpaceBuild space = spline::buildSpline(flattening, build);
+  const spline::SplineSpaceBuild space = beamSpace(mesh);
   const std::vector<int> count = samplesPerCell(space);
   const auto [fewest, most] = std::minmax_element(count.begin(), count.end());
   CAPTURE(count.size(), *fewest, *most, space.tmeshSites.size());
