@@ -11,15 +11,21 @@ using namespace mspline;
 
 namespace {
 
+// The flattening `spline --kind tspline` makes of a real mesh.
+structure::Flattening tsplineFlattening(const structure::TriMesh& mesh) {
+  structure::FlattenOptions flattenOptions;
+  flattenOptions.quantize = true;
+  flattenOptions.maxConeQuarterTurns = 2;
+  structure::Flattening flattening = structure::flattenSurface(mesh, flattenOptions);
+  REQUIRE(flattening.converged);
+  return flattening;
+}
+
 // The T-spline `spline --kind tspline` makes of a real mesh, fitted with `options`.
 spline::SplineModel tsplineOf(const structure::TriMesh& mesh,
                               const spline::SurfaceFitOptions& options,
                               spline::ControlPointFit& fit) {
-  structure::FlattenOptions flattenOptions;
-  flattenOptions.quantize = true;
-  flattenOptions.maxConeQuarterTurns = 2;
-  const structure::Flattening flattening = structure::flattenSurface(mesh, flattenOptions);
-  REQUIRE(flattening.converged);
+  const structure::Flattening flattening = tsplineFlattening(mesh);
   spline::BuildSplineOptions buildOptions;
   buildOptions.kind = spline::SpaceKind::TSpline;
   buildOptions.control = 6000;
@@ -121,12 +127,7 @@ TEST_CASE("build_spline: cells split around cones get samples as dense as their 
           "[spline]") {
   // elephant.off's vertices are fewer than the samples wanted, so points inside faces make up
   // most of them. Its cones without room for caps get two or three rings of cells split.
-  const structure::TriMesh mesh = test::realMesh("elephant.off");
-  structure::FlattenOptions flattenOptions;
-  flattenOptions.quantize = true;
-  flattenOptions.maxConeQuarterTurns = 2;
-  const structure::Flattening flattening = structure::flattenSurface(mesh, flattenOptions);
-  REQUIRE(flattening.converged);
+  const structure::Flattening flattening = tsplineFlattening(test::realMesh("elephant.off"));
   spline::BuildSplineOptions buildOptions;
   buildOptions.kind = spline::SpaceKind::TSpline;
   buildOptions.control = 3000;
