@@ -19,6 +19,7 @@
 #include "mspline/structure/core/stopwatch.h"
 #include "mspline/structure/layout/coarse_triangulation.h"
 #include "mspline/structure/layout/motorcycle_layout.h"
+#include "mspline/structure/ricci/vertex_scaling_energy.h"
 #include "mspline/structure/topology/topology.h"
 
 namespace mspline::spline {
@@ -95,9 +96,7 @@ FlatFaces flatFaces(const TriMesh& surface, const Eigen::VectorXd& flatLengths,
           corners.begin();
       l[std::size_t(k)] = flatLengths[surface.edge_handle(h).idx()];
     }
-    const double s = 0.5 * (l[0] + l[1] + l[2]);
-    flat.areas[std::size_t(f.idx())] =
-        std::sqrt(std::max(0.0, s * (s - l[0]) * (s - l[1]) * (s - l[2])));
+    flat.areas[std::size_t(f.idx())] = 0.25 * fourTimesArea(l[0], l[1], l[2]);
   }
   return flat;
 }
