@@ -157,55 +157,73 @@ py::dict project(const Model& self, const py::handle& points) {
   return out;
 }
 
-// Per face, its area on the surface: the area element |S_s x S_t| summed over the space's
-// quadrature.
-std::vector<double> faceAreas(const Model& self) {
-  const spline::FitSpace& space = self.surface->fitSpace();
-  const Eigen::MatrixXd& control = self.model.controlPoints;
-  std::vector<FacePoint> nodes;
-  std::vector<double> weights;
-  space.quadrature(nodes, weights);
-  std::vector<double> areas(std::size_t(faceCount(self.model)), 0.0);
-  std::vector<spline::FitBasisTerm> terms;
-  for (std::size_t k = 0; k < nodes.size(); ++k) {
-    space.basisAt(nodes[k], terms, 1);
-    Eigen::Vector3d ds = Eigen::Vector3d::Zero(), dt = Eigen::Vector3d::Zero();
-    for (const auto& term : terms) {
-      ds += term.ds * control.row(term.index).transpose();
-      dt += term.dt * control.row(term.index).transpose();
-    }
-    areas[std::size_t(nodes[k].face)] += weights[k] * ds.cross(dt).norm();
+// The area element |S_s x S_t| at `p`.
+double areaElement(const spline::FitSpace& space, const Eigen::MatrixXd& control,
+                   const FacePoint& p, std::vector<spline::FitBasisTerm>& terms) {
+  space.basisAt(p, terms, 1);
+  Eigen::Vector3d ds = Eigen::Vector3d::Zero(), dt = Eigen::Vector3d::Zero();
+  for (const auto& term : terms) {
+    ds += term.ds * control.row(term.index).transpose();
+    dt += term.dt * control.row(term.index).transpose();
   }
-  return areas;
+  return ds.cross(dt).norm();
 }
 
+// Points uniform by surface area, by rejection: a face drawn by its parameter area times a bound
+// on its area element, a uv uniform in it, kept with probability area element / bound. The bound
+// is twice the largest area element at the space's quadrature nodes in the face, raised when a
+// draw exceeds it. Drawing faces by their area and uv uniform in them, as it was, put too many
+// points where a face's parameterization compresses the surface.
 py::dict sample(const Model& self, int count, unsigned long long seed) {
   if (count < 0) throw py::value_error("sample: a negative count (" + std::to_string(count) + ")");
   std::vector<FacePoint> parameters;
   Eigen::MatrixXd points(count, 3);
   {
     py::gil_scoped_release release;
-    const std::vector<double> areas = faceAreas(self);
-    if (!(std::accumulate(areas.begin(), areas.end(), 0.0) > 0.0))
+    const spline::FitSpace& space = self.surface->fitSpace();
+    const Eigen::MatrixXd& control = self.model.controlPoints;
+    std::vector<FacePoint> nodes;
+    std::vector<double> weights;
+    space.quadrature(nodes, weights);
+    std::vector<spline::FitBasisTerm> terms;
+    std::vector<double> parameterArea(std::size_t(faceCount(self.model)), 0.0);
+    std::vector<double> bound(parameterArea.size(), 0.0);
+    for (std::size_t k = 0; k < nodes.size(); ++k) {
+      const auto f = std::size_t(nodes[k].face);
+      parameterArea[f] += weights[k];
+      const double element = areaElement(space, control, nodes[k], terms);
+      if (std::isfinite(element)) bound[f] = std::max(bound[f], 2.0 * element);
+    }
+    std::vector<double> envelope(parameterArea.size());
+    for (std::size_t f = 0; f < envelope.size(); ++f) envelope[f] = parameterArea[f] * bound[f];
+    if (!(std::accumulate(envelope.begin(), envelope.end(), 0.0) > 0.0))
       throw structure::InputError(self.name + ": the surface has no area to sample");
     std::mt19937_64 random(seed);
-    std::discrete_distribution<int> pickFace(areas.begin(), areas.end());
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    std::discrete_distribution<int> pickFace(envelope.begin(), envelope.end());
     // Points where the surface is undefined (a cone point, a T-spline's hole) are drawn again.
-    constexpr int kAttempts = 1000;
+    constexpr int kAttempts = 100000;
     for (int k = 0; k < count; ++k) {
       for (int attempt = 0;; ++attempt) {
+        if (attempt == kAttempts)
+          throw structure::SolverError(self.name + ": no surface point kept in " +
+                                       std::to_string(kAttempts) + " random draws");
         const int face = pickFace(random);
         const FacePoint p{face, randomPointInFace(self.model, face, random)};
-        const Eigen::Vector3d point =
-            spline::evaluateFitSurface(self.surface->fitSpace(), self.model.controlPoints, p);
-        if (point.allFinite()) {
-          parameters.push_back(p);
-          points.row(k) = point.transpose();
-          break;
+        const double element = areaElement(space, control, p, terms);
+        if (!std::isfinite(element)) continue;
+        double& faceBound = bound[std::size_t(face)];
+        if (element > faceBound) {
+          faceBound = 2.0 * element;
+          envelope[std::size_t(face)] = parameterArea[std::size_t(face)] * faceBound;
+          pickFace = std::discrete_distribution<int>(envelope.begin(), envelope.end());
         }
-        if (attempt == kAttempts)
-          throw structure::SolverError(self.name + ": no defined surface point in " +
-                                       std::to_string(kAttempts) + " random draws");
+        if (unit(random) * faceBound > element) continue;
+        const Eigen::Vector3d point = spline::evaluateFitSurface(space, control, p);
+        if (!point.allFinite()) continue;
+        parameters.push_back(p);
+        points.row(k) = point.transpose();
+        break;
       }
     }
   }
@@ -278,8 +296,8 @@ py::class_<Model> bindModel(py::module_& module) {
            "Closest surface points of points (n, 3) (Newton's method from the nearest point of "
            "a tessellation): dict of points (n, 3), faces (n,), uvs (n, 2), distances (n,).")
       .def("sample", &sample, py::arg("n"), py::arg("seed") = 0,
-           "n random surface points, spread by area (faces drawn by their surface area, uv "
-           "uniform in the face): dict of points (n, 3), faces (n,), uvs (n, 2).")
+           "n random surface points, uniform by surface area (rejection sampling on the area "
+           "element): dict of points (n, 3), faces (n,), uvs (n, 2).")
       .def("tessellate", &tessellate, py::arg("resolution") = 4,
            "Triangles sampling every face `resolution` times along each side: "
            "(vertices (n, 3), triangles (m, 3), unit normals (n, 3)).")

@@ -99,11 +99,21 @@ def test_sample_is_seeded_and_on_the_surface(model):
     np.testing.assert_array_equal(model.evaluate(a["faces"], a["uvs"]), a["points"])
 
 
-def test_sample_spreads_points_by_area(model):
-    V, F, _ = model.tessellate(8)
+def tessellated_area(model, resolution):
+    V, F, _ = model.tessellate(resolution)
     corners = V[F]
     areas = 0.5 * np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0],
                                           corners[:, 2] - corners[:, 0]), axis=1)
+    return V, corners, areas
+
+
+def test_sample_spreads_points_by_area(model):
+    V, corners, areas = tessellated_area(model, 16)
+    # The tessellation is the reference only where it resolves the surface.
+    coarser = tessellated_area(model, 8)[2].sum()
+    if abs(areas.sum() / coarser - 1) > 0.01:
+        pytest.skip(f"the tessellated area changes from {coarser:.4g} to {areas.sum():.4g} between "
+                    "resolutions 8 and 16: a surface crumpled finer than its tessellation")
     centroid = (areas[:, None] * corners.mean(axis=1)).sum(axis=0) / areas.sum()
     points = model.sample(20000, seed=1)["points"]
     # Standard error of the mean about diagonal / sqrt(n) / 3.

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
 #include <numeric>
 #include <optional>
 
@@ -45,9 +44,12 @@ void copySurface(const TriMesh& surface, SplineModel& model) {
 
 // Barycentric coordinates of the points of a square lattice of spacing `spacing` that fall inside
 // the triangle whose edge from corner k to corner k + 1 has length `lengths[k]`, the lattice
-// aligned with the longest edge and offset by half a spacing from its first corner. A lattice,
-// unlike a barycentric grid, is as dense across a long thin triangle as along it.
-std::vector<Eigen::Vector3d> latticeSamples(const std::array<double, 3>& lengths, double spacing) {
+// aligned with the longest edge and shifted from its first corner by `shift` (in [0, 1)^2) times
+// the spacing. A lattice, unlike a barycentric grid, is as dense across a long thin triangle as
+// along it; over shifts spread evenly, a triangle gets area / spacing^2 points on average, however
+// small it is.
+std::vector<Eigen::Vector3d> latticeSamples(const std::array<double, 3>& lengths, double spacing,
+                                            const Eigen::Vector2d& shift) {
   std::vector<Eigen::Vector3d> samples;
   const int longest = int(std::max_element(lengths.begin(), lengths.end()) - lengths.begin());
   // Corners a, b on the longest edge, c opposite; a at the origin, b on the x axis.
@@ -59,8 +61,8 @@ std::vector<Eigen::Vector3d> latticeSamples(const std::array<double, 3>& lengths
   const double cy = std::sqrt(std::max(0.0, ca * ca - cx * cx));
   const double area = 0.5 * ab * cy;
   if (!(area > 0.0)) return samples;
-  for (double y = 0.5 * spacing; y < cy; y += spacing)
-    for (double x = 0.5 * spacing; x < ab; x += spacing) {
+  for (double y = shift.y() * spacing; y < cy; y += spacing)
+    for (double x = shift.x() * spacing; x < ab; x += spacing) {
       // Barycentric weights from the signed areas opposite each corner.
       const double wc = 0.5 * ab * y / area;
       const double wb = 0.5 * (x * cy - y * cx) / area;
@@ -101,23 +103,32 @@ FlatFaces flatFaces(const TriMesh& surface, const Eigen::VectorXd& flatLengths,
   return flat;
 }
 
-// The lattice spacing that gives `wanted` points over a flat area `area` (infinite: none).
-double latticeSpacing(double area, double wanted) {
-  return wanted > 0.0 ? std::sqrt(area / wanted) : std::numeric_limits<double>::infinity();
-}
-
-// Points inside the faces, on a square lattice in each face's flat shape of spacing
-// `faceSpacing[f]`, and their 3D positions appended to `targets`; `locate` gives each its
-// parameter. Callers choose the spacings so that with the vertices there are about as many
-// samples per basis function everywhere. Counted per face, as they were, a scan's faces far apart
-// in flat area, or long and thin, left basis functions without samples.
+// Points inside the faces and their 3D positions appended to `targets`, so that with the
+// vertices there is about one sample per `faceSpacing[f]`^2 of flat area in face f; `locate` gives
+// each its parameter. Each face takes its share of its corners (one per face around a vertex) as
+// samples already there and gets the rest on a square lattice in its flat shape, shifted from face
+// to face by a low-discrepancy sequence. Counted per face, as they were, a scan's faces far apart
+// in flat area, or long and thin, left basis functions without samples; counted only where the
+// vertices were fewer than the samples wanted in all, a dense scan's vertices were the only
+// samples even where the flat metric spreads them thin.
 template <class Locate>
 void addFaceSamples(const SplineModel& model, const FlatFaces& flat,
                     const std::vector<double>& faceSpacing, std::vector<int>& sampleFaces,
                     std::vector<Eigen::RowVector3d>& targets, Locate&& locate) {
+  std::vector<int> facesAround(std::size_t(model.surfaceVertices.rows()), 0);
+  for (const auto& corners : model.surfaceFaces)
+    for (const int v : corners) ++facesAround[std::size_t(v)];
   for (std::size_t f = 0; f < model.surfaceFaces.size(); ++f) {
     const auto& corners = model.surfaceFaces[f];
-    for (const Eigen::Vector3d& b : latticeSamples(flat.lengths[f], faceSpacing[f])) {
+    double vertexShare = 0.0;
+    for (const int v : corners) vertexShare += 1.0 / facesAround[std::size_t(v)];
+    const double missing = flat.areas[f] / (faceSpacing[f] * faceSpacing[f]) - vertexShare;
+    if (!(missing > 0.0)) continue;
+    // The R2 sequence (Roberts 2018): shifts spread evenly over the unit square.
+    const Eigen::Vector2d shift(std::fmod(0.5 + 0.7548776662466927 * double(f), 1.0),
+                                std::fmod(0.5 + 0.5698402909980532 * double(f), 1.0));
+    for (const Eigen::Vector3d& b :
+         latticeSamples(flat.lengths[f], std::sqrt(flat.areas[f] / missing), shift)) {
       locate(int(f), b);
       sampleFaces.push_back(int(f));
       targets.push_back(b[0] * model.surfaceVertices.row(corners[0]) +
@@ -246,9 +257,8 @@ void buildTSpline(const BuildSplineOptions& s, const Flattening& flattening,
   // About one control point per cell, even over the flat metric, and 4^L times as many where the
   // cells around cones will be split L times.
   const FlatFaces flat = flatFaces(surface, flattening.flatLengths, model);
-  const double spacing =
-      latticeSpacing(std::accumulate(flat.areas.begin(), flat.areas.end(), 0.0),
-                     s.samplesPerControlPoint * model.tmesh.numFaces() - double(vertexCount));
+  const double spacing = std::sqrt(std::accumulate(flat.areas.begin(), flat.areas.end(), 0.0) /
+                                   (s.samplesPerControlPoint * model.tmesh.numFaces()));
   std::vector<double> faceSpacing(flat.areas.size(), spacing);
   if (s.denserWhereSplit) {
     const std::vector<int> faceLevel =
@@ -296,23 +306,20 @@ void buildTriBSpline(const BuildSplineOptions& s, const Flattening& flattening,
   std::vector<Eigen::RowVector3d> targets;
   for (Eigen::Index v = 0; v < model.surfaceVertices.rows(); ++v)
     targets.push_back(model.surfaceVertices.row(v));
-  // Each domain face carries perFace basis functions: as many samples per domain face, its
-  // vertices counted, on a lattice over the surface faces whose centroids it holds.
+  // Each domain face carries perFace basis functions: as many samples per domain face, over the
+  // surface faces whose centroids it holds.
   const FlatFaces flat = flatFaces(surface, flattening.flatLengths, model);
   std::vector<int> domainFace(flat.areas.size());
   std::vector<double> domainArea(std::size_t(model.domain.faceCount()), 0.0);
-  std::vector<double> domainWanted(domainArea.size(), s.samplesPerControlPoint * perFace);
   for (std::size_t f = 0; f < domainFace.size(); ++f) {
     domainFace[f] =
         locateOnCoarse(surface, coarse, int(f), Eigen::Vector3d::Constant(1.0 / 3.0)).face;
     domainArea[std::size_t(domainFace[f])] += flat.areas[f];
   }
-  for (const auto& location : model.surfaceVertexLocations)
-    domainWanted[std::size_t(location.face)] -= 1.0;
   std::vector<double> faceSpacing(flat.areas.size());
   for (std::size_t f = 0; f < domainFace.size(); ++f) {
     const auto d = std::size_t(domainFace[f]);
-    faceSpacing[f] = latticeSpacing(domainArea[d], domainWanted[d]);
+    faceSpacing[f] = std::sqrt(domainArea[d] / (s.samplesPerControlPoint * perFace));
   }
   addFaceSamples(model, flat, faceSpacing, setup.sampleFaces, targets,
                  [&](int f, const Eigen::Vector3d& b) {

@@ -123,6 +123,25 @@ TEST_CASE("build_spline: long thin faces sample every cell", "[spline]") {
   CHECK(*most <= 8);
 }
 
+TEST_CASE("build_spline: a dense scan's cells far from its vertices in the flat metric get samples",
+          "[spline]") {
+  // bunny00.off has more vertices than the samples wanted, but the flat metric spreads them
+  // thinly where it shrinks the surface: counted over the whole mesh, vertices were the only
+  // samples and 31 of 3,105 cells had none. Counted per face, a few cells still fall between the
+  // points of faces that cross them.
+  const structure::TriMesh mesh = test::realMesh("bunny00.off");
+  const structure::Flattening flattening = tsplineFlattening(mesh);
+  spline::BuildSplineOptions buildOptions;
+  buildOptions.kind = spline::SpaceKind::TSpline;
+  buildOptions.control = 3000;
+  const spline::SplineSpaceBuild build = spline::buildSpline(flattening, buildOptions);
+  REQUIRE(double(mesh.n_vertices()) > 3.0 * build.model.tmesh.numFaces());
+  const std::vector<int> count = samplesPerCell(build);
+  const auto empty = std::count(count.begin(), count.end(), 0);
+  CAPTURE(mesh.n_vertices(), count.size(), build.tmeshSites.size());
+  CHECK(empty * 500 <= std::ptrdiff_t(count.size()));
+}
+
 TEST_CASE("build_spline: cells split around cones get samples as dense as their control points",
           "[spline]") {
   // elephant.off's vertices are fewer than the samples wanted, so points inside faces make up

@@ -196,7 +196,7 @@ TEST_CASE("fit_scan: a T-spline is refined while only the both-way RMS is off (t
   // tolerance (beyond half the maximum, as before, it saw nothing and stopped after one round).
   // Valence 2: with corners of valence 3 its 8 cones sit at the corners where the error is, and
   // no face that holds an extraordinary point is split.
-  spline::FitOptions options = fitOptions(spline::FitKind::TSpline, 1500, 3e-3, 3);
+  spline::FitOptions options = fitOptions(spline::FitKind::TSpline, 1500, 2e-3, 3);
   options.minCornerValence = 2;
   const spline::FitResult fit = checkedFit("tripod.off", options);
   REQUIRE(fit.rounds.size() >= 2);
