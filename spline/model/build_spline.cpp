@@ -124,9 +124,13 @@ void addFaceSamples(const SplineModel& model, const FlatFaces& flat,
     for (const int v : corners) vertexShare += 1.0 / facesAround[std::size_t(v)];
     const double missing = flat.areas[f] / (faceSpacing[f] * faceSpacing[f]) - vertexShare;
     if (!(missing > 0.0)) continue;
-    // The R2 sequence (Roberts 2018): shifts spread evenly over the unit square.
-    const Eigen::Vector2d shift(std::fmod(0.5 + 0.7548776662466927 * double(f), 1.0),
-                                std::fmod(0.5 + 0.5698402909980532 * double(f), 1.0));
+    // A face that misses a point or more gets its lattice centred, half a spacing from its
+    // sides; a smaller one gets it shifted by the R2 sequence (Roberts 2018), spread evenly over
+    // the unit square, so that it has its fraction of a point on average.
+    const Eigen::Vector2d shift =
+        missing >= 1.0 ? Eigen::Vector2d(0.5, 0.5)
+                       : Eigen::Vector2d(std::fmod(0.5 + 0.7548776662466927 * double(f), 1.0),
+                                         std::fmod(0.5 + 0.5698402909980532 * double(f), 1.0));
     for (const Eigen::Vector3d& b :
          latticeSamples(flat.lengths[f], std::sqrt(flat.areas[f] / missing), shift)) {
       locate(int(f), b);

@@ -108,6 +108,17 @@ TEST_CASE("fit_scan: triangular B-spline on the knot, subd on the genus-2 eight"
   CHECK(subd.model.controlPoints.rows() == subd.model.tmesh.numVertices);
 }
 
+TEST_CASE("fit_scan: the Catmull-Clark fit of eight.off at the default budget is fold-free",
+          "[spline]") {
+  // About 30 samples per scan face: lattices shifted from face to face left gaps up to two
+  // spacings wide along the faces' sides, and the fit, which has no repair loop, folded 21 times.
+  spline::FitOptions options;
+  options.kind = spline::FitKind::Subd;
+  const spline::FitResult fit = checkedFit("eight.off", options);
+  CAPTURE(fit.model.controlPoints.rows(), fit.quality.folds.total());
+  CHECK(fit.quality.folds.total() == 0);
+}
+
 TEST_CASE("fit_scan: a budget the domain cannot meet ends, reported over budget", "[spline]") {
   // The genus-2 eight with its cones kept apart needs more than 10 domain faces.
   const spline::FitResult fit =
@@ -196,7 +207,7 @@ TEST_CASE("fit_scan: a T-spline is refined while only the both-way RMS is off (t
   // tolerance (beyond half the maximum, as before, it saw nothing and stopped after one round).
   // Valence 2: with corners of valence 3 its 8 cones sit at the corners where the error is, and
   // no face that holds an extraordinary point is split.
-  spline::FitOptions options = fitOptions(spline::FitKind::TSpline, 1500, 2e-3, 3);
+  spline::FitOptions options = fitOptions(spline::FitKind::TSpline, 1500, 3.5e-3, 3);
   options.minCornerValence = 2;
   const spline::FitResult fit = checkedFit("tripod.off", options);
   REQUIRE(fit.rounds.size() >= 2);
