@@ -157,15 +157,12 @@ py::dict project(const Model& self, const py::handle& points) {
   return out;
 }
 
-// The area element |S_s x S_t| at `p`.
+// The area element |S_s x S_t| at `p` (NaN where the surface is undefined).
 double areaElement(const spline::FitSpace& space, const Eigen::MatrixXd& control,
                    const FacePoint& p, std::vector<spline::FitBasisTerm>& terms) {
-  space.basisAt(p, terms, 1);
-  Eigen::Vector3d ds = Eigen::Vector3d::Zero(), dt = Eigen::Vector3d::Zero();
-  for (const auto& term : terms) {
-    ds += term.ds * control.row(term.index).transpose();
-    dt += term.dt * control.row(term.index).transpose();
-  }
+  Eigen::Vector3d ds, dt;
+  if (!spline::evaluateFitTangents(space, control, p, terms, ds, dt))
+    return std::numeric_limits<double>::quiet_NaN();
   return ds.cross(dt).norm();
 }
 

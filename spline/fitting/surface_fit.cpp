@@ -292,6 +292,16 @@ Eigen::Vector3d evaluateFitSurface(const FitSpace& space, const Eigen::MatrixXd&
   return jetOf(terms, control).position;
 }
 
+bool evaluateFitTangents(const FitSpace& space, const Eigen::MatrixXd& control, const FacePoint& p,
+                         std::vector<FitBasisTerm>& terms, Eigen::Vector3d& ds,
+                         Eigen::Vector3d& dt) {
+  space.basisAt(p, terms, 1);
+  const SurfaceJet jet = jetOf(terms, control);
+  ds = jet.ds;
+  dt = jet.dt;
+  return !terms.empty() && ds.allFinite() && dt.allFinite();
+}
+
 SurfaceProjection projectOntoSurface(const FitSpace& space, const Eigen::MatrixXd& control,
                                      const FacePoint& start, const Eigen::Vector3d& target,
                                      int steps) {

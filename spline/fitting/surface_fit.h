@@ -81,6 +81,12 @@ SurfaceFitResult fitSurface(const FitSpace& space, const std::vector<FacePoint>&
 Eigen::Vector3d evaluateFitSurface(const FitSpace& space, const Eigen::MatrixXd& control,
                                    const FacePoint& p);
 
+/// The first derivatives ds, dt of the surface of `control` at `p`; false where the surface is
+/// undefined. `terms` is scratch space, reused across calls.
+bool evaluateFitTangents(const FitSpace& space, const Eigen::MatrixXd& control, const FacePoint& p,
+                         std::vector<FitBasisTerm>& terms, Eigen::Vector3d& ds,
+                         Eigen::Vector3d& dt);
+
 /// A closest point found by Newton's method on the parameters from a start.
 struct SurfaceProjection {
   FacePoint parameter;

@@ -106,11 +106,10 @@ FlatFaces flatFaces(const TriMesh& surface, const Eigen::VectorXd& flatLengths,
 // Points inside the faces and their 3D positions appended to `targets`, so that with the
 // vertices there is about one sample per `faceSpacing[f]`^2 of flat area in face f; `locate` gives
 // each its parameter. Each face takes its share of its corners (one per face around a vertex) as
-// samples already there and gets the rest on a square lattice in its flat shape, shifted from face
-// to face by a low-discrepancy sequence. Counted per face, as they were, a scan's faces far apart
-// in flat area, or long and thin, left basis functions without samples; counted only where the
-// vertices were fewer than the samples wanted in all, a dense scan's vertices were the only
-// samples even where the flat metric spreads them thin.
+// samples already there and gets the rest on a square lattice in its flat shape. Counted per face,
+// as they were, a scan's faces far apart in flat area, or long and thin, left basis functions
+// without samples; counted only where the vertices were fewer than the samples wanted in all, a
+// dense scan's vertices were the only samples even where the flat metric spreads them thin.
 template <class Locate>
 void addFaceSamples(const SplineModel& model, const FlatFaces& flat,
                     const std::vector<double>& faceSpacing, std::vector<int>& sampleFaces,

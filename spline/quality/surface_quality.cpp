@@ -151,18 +151,6 @@ DihedralPercentiles dihedrals(const MeasuredTessellation& m, int resolution) {
   return out;
 }
 
-// The first derivatives of the surface at `p`; false where the surface is undefined.
-bool tangents(const FitSpace& space, const Eigen::MatrixXd& control, const FacePoint& p,
-              std::vector<FitBasisTerm>& terms, Vector3d& ds, Vector3d& dt) {
-  space.basisAt(p, terms, 1);
-  ds = dt = Vector3d::Zero();
-  for (const FitBasisTerm& b : terms) {
-    ds += b.ds * control.row(b.index).transpose();
-    dt += b.dt * control.row(b.index).transpose();
-  }
-  return !terms.empty() && ds.allFinite() && dt.allFinite();
-}
-
 // projectOntoSurface from `start`, and whether it ended at a critical point of the distance: the
 // offset to x along the surface normal to 1e-3 rad (then the distance is within 5e-7 of it of
 // the local minimum's), or x on the surface to `onSurface`. Not on the spline where it is
@@ -179,7 +167,8 @@ ClosestSurfacePoint project(const FitSpace& space, const Eigen::MatrixXd& contro
   out.position = evaluateFitSurface(space, control, found.parameter);
   Vector3d ds, dt;
   const Vector3d offset = x - out.position;
-  if (offset.norm() > onSurface && tangents(space, control, found.parameter, terms, ds, dt)) {
+  if (offset.norm() > onSurface &&
+      evaluateFitTangents(space, control, found.parameter, terms, ds, dt)) {
     const Vector3d normal = ds.cross(dt);
     if (normal.norm() > 0.0)
       out.converged = (offset - offset.dot(normal.normalized()) * normal.normalized()).norm() <=
@@ -386,7 +375,8 @@ void measureRegularity(const FitSpace& space, const Eigen::MatrixXd& control,
         Vector3d ds, dt;
         for (std::size_t v = range.begin(); v < range.end(); ++v)
           if (measured[v] &&
-              tangents(space, control, coarse.locate(std::int64_t(v)).parameter, terms, ds, dt))
+              evaluateFitTangents(space, control, coarse.locate(std::int64_t(v)).parameter, terms,
+                                  ds, dt))
             jacobian[v] = ds.cross(dt).norm();
       });
   std::vector<double> values;
