@@ -51,6 +51,15 @@ struct BuildSplineOptions {
   /// samples per area as they will have control points (false where the grid is fitted unsplit,
   /// as by the Catmull-Clark fit).
   bool denserWhereSplit = true;
+  /// T-splines and subdivision surfaces, with corners of valence 3: the quad layout's cones at
+  /// least this many cells apart on the surface (quadLayoutFlattening). A T-spline cone's cap
+  /// needs its cells around it free of other cones, or the cells there are split until they are
+  /// (man's 61 cones a cell apart: 8,000 of 10,500 control points went to those splits), and the
+  /// traces of cones a fraction of a cell apart run side by side, leaving strips that quantization
+  /// stretches to a cell or crushes (man's cells up to 25.7 times longer than wide; 4.0 at three
+  /// cells). The Catmull-Clark fit, which splits nothing, keeps cones one cell apart: over the data
+  /// set it folds more at three (README).
+  double coneSeparationCells = 3.0;
   /// Triangular B-splines: per surface vertex, how densely the domain should sample it (empty:
   /// uniformly in the flat metric; structure::CoarseningOptions::density).
   Eigen::VectorXd density;

@@ -247,6 +247,8 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
   build.kind = options.kind == FitKind::TriBSpline ? SpaceKind::TriBSpline : SpaceKind::TSpline;
   build.control = options.control > 0 ? options.control : options.maxControl * 3 / 4;
   build.denserWhereSplit = options.kind == FitKind::TSpline;
+  // The Catmull-Clark fit splits no cells around cones: its cones may come a cell apart.
+  if (options.kind == FitKind::Subd) build.coneSeparationCells = 1.0;
   FlattenOptions flattenOptions = options.flatten;
   // A coarse polyhedron split at its edge midpoints (the same surface) when its vertices are too
   // few for the quad layout's cones.

@@ -40,9 +40,9 @@ struct FitOptions {
   /// tspline and subd: the smallest valence of a cone's corner in the quad layout, 2 or 3 (a cone
   /// of k quarter turns of curvature is a corner of valence 4 - k). 3 makes every corner valence
   /// 3 or more (a cube's layout is its six faces) and spreads a sharp tip's curvature over
-  /// several cones a cell apart; 2 puts one cone of angle pi at a sharp tip, which folds more fits
-  /// of the data set but fewer of some organic ones and flat squares (README). A mesh with too few
-  /// vertices for the cones is split at its edge midpoints first (the same surface).
+  /// several cones a few cells apart; 2 puts one cone of angle pi at a sharp tip, which folds more
+  /// fits of the data set but fewer of some organic ones and flat squares (README). A mesh with too
+  /// few vertices for the cones is split at its edge midpoints first (the same surface).
   int minCornerValence = 3;
   /// The flattening; for tspline and subd, fitScan sets the quad layout's cones on top of it
   /// (quadLayoutFlattening, quad_layout_flattening.h).

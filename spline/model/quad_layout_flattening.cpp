@@ -29,12 +29,16 @@ QuadLayoutFlattening quadLayoutFlattening(const structure::TriMesh& mesh, int mi
   if (minCornerValence < 2 || minCornerValence > 3)
     throw structure::InputError("quad layout: the smallest corner valence must be 2 or 3, not " +
                                 std::to_string(minCornerValence));
+  if (!(build.coneSeparationCells > 0.0) || !std::isfinite(build.coneSeparationCells))
+    throw structure::InputError("quad layout: the cones' separation must be a positive number of " +
+                                std::string("cells"));
   // Knot lines must survive chart changes: quarter-turn cones and holonomy.
   options.quantize = true;
   options.maxConeQuarterTurns = 4 - minCornerValence;
   // The layout traces the seams with the default options: their angles must hold to its tolerance.
   options.seamTolerance = structure::MotorcycleLayoutOptions().angleTolerance;
-  if (minCornerValence == 3) options.minConeSeparation = cellSideOnSurface(mesh, build);
+  if (minCornerValence == 3)
+    options.minConeSeparation = build.coneSeparationCells * cellSideOnSurface(mesh, build);
   return {options, structure::midpointLevelsForQuarterTurnCones(mesh, options.maxConeQuarterTurns)};
 }
 

@@ -11,8 +11,7 @@ namespace mspline::spline {
 struct QuadLayoutFlattening {
   /// The options given, with quantize set, maxConeQuarterTurns = 4 - minCornerValence (a cone of
   /// k quarter turns of curvature is a corner of valence 4 - k) and, with valence 3,
-  /// minConeSeparation = one grid cell's side on the surface (corners closer than a cell make
-  /// sliver cells).
+  /// minConeSeparation = build.coneSeparationCells grid cells' sides on the surface.
   structure::FlattenOptions options;
   /// Rounds of subdivideMidpoint the surface needs before it is flattened with `options`: a
   /// coarse polyhedron's vertices are too few for its corners' cones. The splits keep the surface
@@ -22,7 +21,7 @@ struct QuadLayoutFlattening {
 
 /// The flattening of `mesh` (closed) for a quad layout whose corners have valence
 /// `minCornerValence` or more, with cells of the side `build` asks for. Throws InputError unless
-/// `minCornerValence` is 2 or 3.
+/// `minCornerValence` is 2 or 3 and build.coneSeparationCells is positive.
 QuadLayoutFlattening quadLayoutFlattening(const structure::TriMesh& mesh, int minCornerValence,
                                           const BuildSplineOptions& build,
                                           structure::FlattenOptions options = {});

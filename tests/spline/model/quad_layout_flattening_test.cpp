@@ -3,8 +3,11 @@
 #include <cmath>
 
 #include "mspline/spline/model/quad_layout_flattening.h"
+#include "mspline/spline/tspline/layout_tmesh.h"
 #include "mspline/structure/core/errors.h"
+#include "mspline/structure/layout/motorcycle_layout.h"
 #include "mspline/structure/mesh/polygon_soup.h"
+#include "support/test_data.h"
 #include "support/test_meshes.h"
 
 using namespace mspline;
@@ -29,7 +32,11 @@ TEST_CASE("quad_layout_flattening: a corner of valence v is a cone of 4 - v quar
   const spline::QuadLayoutFlattening valence3 = spline::quadLayoutFlattening(cube, 3, build, given);
   CHECK(valence3.options.quantize);
   CHECK(valence3.options.maxConeQuarterTurns == 1);
-  CHECK(valence3.options.minConeSeparation == Approx(0.2).epsilon(1e-12));
+  // Three cells apart by default (the T-spline's), one as the Catmull-Clark fit asks.
+  CHECK(valence3.options.minConeSeparation == Approx(0.6).epsilon(1e-12));
+  build.coneSeparationCells = 1.0;
+  CHECK(spline::quadLayoutFlattening(cube, 3, build, given).options.minConeSeparation ==
+        Approx(0.2).epsilon(1e-12));
   CHECK(valence3.options.tolerance == 1e-7);
   CHECK(valence3.midpointSubdivisions == 0);
 
@@ -37,6 +44,17 @@ TEST_CASE("quad_layout_flattening: a corner of valence v is a cone of 4 - v quar
   build.grid = 0.05;
   CHECK(spline::quadLayoutFlattening(cube, 3, build).options.minConeSeparation ==
         Approx(0.05 * std::sqrt(24.0)).epsilon(1e-12));
+}
+
+TEST_CASE("quad_layout_flattening: a cone separation that is not a positive number is refused",
+          "[spline]") {
+  const structure::TriMesh cube = test::cubeSurface(1);
+  spline::BuildSplineOptions build;
+  for (const double cells : {0.0, -1.0, std::nan(""), HUGE_VAL}) {
+    INFO(cells);
+    build.coneSeparationCells = cells;
+    CHECK_THROWS_AS(spline::quadLayoutFlattening(cube, 3, build), structure::InputError);
+  }
 }
 
 TEST_CASE("quad_layout_flattening: a tetrahedron is split once for eight valence-3 corners",
@@ -53,4 +71,36 @@ TEST_CASE("quad_layout_flattening: a corner valence other than 2 or 3 is refused
     INFO(valence);
     CHECK_THROWS_AS(spline::quadLayoutFlattening(cube, valence, {}), structure::InputError);
   }
+}
+
+TEST_CASE("quad_layout_flattening: man.off, cones three cells apart keep its cells near square",
+          "[spline][slow]") {
+  // Valence-3 cones a cell apart at man's fingers and toes come within a fraction of a cell of
+  // each other in the flat metric: their traces leave strips that quantization stretched to a
+  // whole cell across (cells 25.7 times longer than wide). Three cells apart, as T-splines keep
+  // them, the layout is within issue 19's bounds.
+  const structure::TriMesh man = test::realMesh("man.off");
+  spline::BuildSplineOptions build;
+  build.control = 6000;
+  const auto anisotropy = [&](double separationCells) {
+    build.coneSeparationCells = separationCells;
+    const spline::QuadLayoutFlattening quad = spline::quadLayoutFlattening(man, 3, build);
+    REQUIRE(quad.midpointSubdivisions == 0);
+    const structure::Flattening flattening = structure::flattenSurface(man, quad.options);
+    REQUIRE(flattening.converged);
+    const structure::MotorcycleLayout layout(flattening.surface(), flattening.flatLengths);
+    double flatArea = 0.0;
+    for (const auto& rectangle : layout.rectangles())
+      flatArea += rectangle.width() * rectangle.height();
+    spline::LayoutTMeshOptions cells;
+    cells.cellSize = std::sqrt(flatArea / double(build.control));
+    const spline::LayoutTMesh grid = spline::layoutTMesh(layout, cells);
+    return std::pair{grid.anisotropyP99, grid.maxAnisotropy};
+  };
+  const auto [p99, max] = anisotropy(3.0);
+  CHECK(p99 <= 3.0);
+  CHECK(max <= 6.0);
+  const auto [p99OneCell, maxOneCell] = anisotropy(1.0);
+  CHECK(maxOneCell > 2.0 * max);
+  CHECK(p99OneCell > p99);
 }
