@@ -30,8 +30,8 @@ QuadLayoutFlattening quadLayoutFlattening(const structure::TriMesh& mesh, int mi
     throw structure::InputError("quad layout: the smallest corner valence must be 2 or 3, not " +
                                 std::to_string(minCornerValence));
   if (!(build.coneSeparationCells > 0.0) || !std::isfinite(build.coneSeparationCells))
-    throw structure::InputError("quad layout: the cones' separation must be a positive number of " +
-                                std::string("cells"));
+    throw structure::InputError(
+        "quad layout: the cones' separation must be a positive number of cells");
   // Knot lines must survive chart changes: quarter-turn cones and holonomy.
   options.quantize = true;
   options.maxConeQuarterTurns = 4 - minCornerValence;
