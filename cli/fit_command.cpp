@@ -73,6 +73,8 @@ Json roundsJson(const spline::FitResult& fit, spline::FitKind kind) {
     if (kind == spline::FitKind::TSpline) {
       round["refined_faces"] = r.refinedFaces;
       round["folds"] = r.folds;
+      round["measured_rms_error"] = r.measuredRms;
+      round["measured_max_error"] = r.measuredMax;
       round["kept"] = r.kept;
       if (r.repairOf >= 0) {
         round["repair_of"] = r.repairOf;

@@ -58,6 +58,8 @@ py::dict fitReport(const spline::FitResult& result, const spline::FitOptions& op
     entry["max_error"] = round.maxError;
     entry["refined_faces"] = round.refinedFaces;
     entry["folds"] = round.folds;
+    entry["measured_rms_error"] = round.measuredRms;
+    entry["measured_max_error"] = round.measuredMax;
     entry["kept"] = round.kept;
     if (round.repairOf >= 0) {
       entry["repair_of"] = round.repairOf;

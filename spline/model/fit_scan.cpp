@@ -99,6 +99,8 @@ TSplineSurfaceCheck checkAgainstScan(SplineModel model, const TMesh& mesh,
                               options.maxErrorFactor * options.tolerance;
   check.accepted = check.distancesWithin && quality.folds.total() == 0;
   check.foldCount = quality.folds.total();
+  check.rms = std::max(d.scanToSurface.rms, d.surfaceToScan.rms) * d.diagonal;
+  check.max = std::max(d.scanToSurface.max, d.surfaceToScan.max) * d.diagonal;
   std::vector<FitBasisTerm> terms;
   const auto surfacePoint = [&](const FacePoint& p, Eigen::Vector3d& normal) {
     surface.fitSpace().basisAt(p, terms, 1);
@@ -337,6 +339,8 @@ FitResult fitScan(const TriMesh& scan, const FitOptions& options, const Progress
       round.maxError = r.maxError / diagonal;
       round.refinedFaces = r.repairOf >= 0 ? r.remediedFaces : r.splitFaces;
       round.folds = r.folds;
+      round.measuredRms = r.measuredRms / diagonal;
+      round.measuredMax = r.measuredMax / diagonal;
       round.kept = int(k) == adaptive.keptRound;
       round.seconds = r.seconds;
       round.repairOf = r.repairOf;

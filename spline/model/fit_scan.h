@@ -59,6 +59,9 @@ struct FitRound {
   /// (tspline_adaptive_fit.h: the best round, repaired).
   int refinedFaces = 0;
   int folds = 0;
+  /// T-splines: the surface's RMS and maximum distance to the scan measured as the quality does,
+  /// the larger of the two ways, relative to the diagonal.
+  double measuredRms = 0.0, measuredMax = 0.0;
   bool kept = false;
   double seconds = 0.0;
   /// A repair's fit: the round it started from (-1 for a refinement round), its remedy ("split",

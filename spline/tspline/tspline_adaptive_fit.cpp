@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <optional>
 
@@ -31,6 +32,14 @@ struct FitState {
 
   bool within() const { return samplesWithin && check.distancesWithin; }
   bool reachedTolerance() const { return samplesWithin && check.accepted; }
+  /// How far the fit is from the tolerance: the larger of its RMS distance over the tolerance and
+  /// its maximum over the maximum wanted, of the samples and of the measurement (1 or less when
+  /// within).
+  double excess(const TSplineAdaptiveFitOptions& options) const {
+    return std::max(
+        std::max(fit.rmsError, check.rms) / options.tolerance,
+        std::max(fit.maxError, check.max) / (options.maxErrorFactor * options.tolerance));
+  }
 };
 
 // Fits `state` and measures its surface; the round's summary (but for what follows the fit).
@@ -61,6 +70,8 @@ TSplineFitRound fitAndMeasure(FitState& state, int round, const TSplineAdaptiveF
   summary.rmsError = state.fit.rmsError;
   summary.maxError = state.fit.maxError;
   summary.folds = state.check.foldCount;
+  summary.measuredRms = state.check.rms;
+  summary.measuredMax = state.check.max;
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
 }
@@ -131,12 +142,13 @@ std::vector<int> withNeighbours(const TMesh& mesh, const std::vector<int>& faces
   return out;
 }
 
-// One repair search from `start`, a round within the tolerance that folds: each step fits every
-// remedy from the state kept so far and keeps the remedied fit that folds least when it is within
-// the tolerance and folds less. With `holdParameters` the fits keep the samples' parameters (no
-// parameter correction), so a remedy changes the surface only near the faces it acts on. Every
-// fit's summary goes to `rounds`; returns the state kept last.
-FitState repairFolds(const FitState& start, bool holdParameters,
+// One repair search from `start`, a round that folds: each step fits every remedy from the state
+// kept so far and keeps the remedied fit that folds least when it is within the tolerance, or its
+// excess at most `excessLimit` (0 when the start is within), and folds less. With
+// `holdParameters` the fits keep the samples' parameters (no parameter correction), so a remedy
+// changes the surface only near the faces it acts on. Every fit's summary goes to `rounds`;
+// returns the state kept last.
+FitState repairFolds(const FitState& start, bool holdParameters, double excessLimit,
                      const TSplineAdaptiveFitOptions& options, const FitProgress& progress,
                      std::vector<TSplineFitRound>& rounds) {
   FitState kept = start;
@@ -169,7 +181,7 @@ FitState repairFolds(const FitState& start, bool holdParameters,
       summary.remediedFaces = remedied;
       summary.parametersHeld = holdParameters;
       rounds.push_back(summary);
-      if (candidate.within() &&
+      if ((candidate.within() || candidate.excess(options) <= excessLimit) &&
           candidate.check.foldCount < (best ? best->check : kept.check).foldCount)
         best = std::move(candidate);
       // No remedy can fold less than none.
@@ -211,11 +223,17 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
   state.fitOptions = options.fit;
   state.fitOptions.faceFairing = Eigen::VectorXd::Ones(mesh.numFaces());
   int previousFolds = std::numeric_limits<int>::max();
-  // The best round so far (see the header).
+  // The best round within the tolerance so far, and while there is none, every round (see the
+  // header).
   std::optional<FitState> kept;
+  std::vector<FitState> outside;
   const auto keepIfBetter = [&](const FitState& s) {
-    if (!kept || !kept->within() || (s.within() && s.check.foldCount <= kept->check.foldCount))
+    if (!s.within()) {
+      if (!kept) outside.push_back(s);
+    } else if (!kept || s.check.foldCount <= kept->check.foldCount) {
       kept = s;
+      outside.clear();
+    }
   };
   for (int round = 0;; ++round) {
     TSplineFitRound summary = fitAndMeasure(state, round, options, progress);
@@ -290,12 +308,25 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
     if (marked.empty() && strays == 0 && !unfolding) break;
     split(state, marked);
   }
+  // No round within: of those nearly as close as the closest, the one that folds least (the
+  // latest of equals).
+  double excessLimit = 0.0;
+  if (!kept) {
+    double least = std::numeric_limits<double>::infinity();
+    for (const FitState& s : outside) least = std::min(least, s.excess(options));
+    excessLimit = options.excessSlack * least;
+    for (FitState& s : outside)
+      if (s.excess(options) <= excessLimit && (!kept || s.check.foldCount <= kept->check.foldCount))
+        kept = std::move(s);
+    // Excesses that are not numbers: the last round, as without a measurement.
+    if (!kept) kept = std::move(outside.back());
+  }
   // The repair (see the header): two searches from the round kept, the better one's end kept
   // (the second only when the first still folds).
-  if (kept->within() && kept->check.foldCount > 0) {
-    FitState moved = repairFolds(*kept, false, options, progress, result.rounds);
+  if (kept->check.foldCount > 0) {
+    FitState moved = repairFolds(*kept, false, excessLimit, options, progress, result.rounds);
     if (moved.check.foldCount > 0) {
-      FitState held = repairFolds(*kept, true, options, progress, result.rounds);
+      FitState held = repairFolds(*kept, true, excessLimit, options, progress, result.rounds);
       if (held.check.foldCount < moved.check.foldCount) moved = std::move(held);
     }
     kept = std::move(moved);

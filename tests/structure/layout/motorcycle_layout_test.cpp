@@ -271,7 +271,12 @@ TEST_CASE(
       test::seamlessFlatMetric(structure::capHoles(test::realMesh("quad.off")).mesh);
   const MotorcycleLayout layout(flat.surface, flat.lengths);
   checkTiling(flat, layout, 1e-7);
-  CHECK(layout.rectangles().size() == 4);
+  // Which trace stops which depends on the last bits of the flat metric (edge lengths that the
+  // square's symmetry makes equal differ by 1e-15): 4 rectangles on one machine, 6 on another
+  // (its BLAS kernels). Both tile the surface without a sliver.
+  CHECK(layout.rectangles().size() >= 4);
+  for (const auto& r : layout.rectangles())
+    CHECK(std::min(r.width(), r.height()) > 0.05 * std::sqrt(flatArea(flat)));
 }
 
 TEST_CASE("motorcycle_layout: points of sliver faces are located through their neighbours",
