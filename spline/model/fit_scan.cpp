@@ -101,19 +101,6 @@ TSplineSurfaceCheck checkAgainstScan(SplineModel model, const TMesh& mesh,
   check.foldCount = quality.folds.total();
   check.rms = std::max(d.scanToSurface.rms, d.surfaceToScan.rms) * d.diagonal;
   check.max = std::max(d.scanToSurface.max, d.surfaceToScan.max) * d.diagonal;
-  std::vector<FitBasisTerm> terms;
-  const auto surfacePoint = [&](const FacePoint& p, Eigen::Vector3d& normal) {
-    surface.fitSpace().basisAt(p, terms, 1);
-    Eigen::Vector3d point = Eigen::Vector3d::Zero(), ds = point, dt = point;
-    for (const auto& term : terms) {
-      const Eigen::Vector3d c = fit.controlPoints.row(term.index).transpose();
-      point += term.value * c;
-      ds += term.ds * c;
-      dt += term.dt * c;
-    }
-    normal = ds.cross(dt).normalized();
-    return point;
-  };
   const auto scanNormal = [&](int face) {
     const auto& corners = scanDistance.triangles()[std::size_t(face)];
     const auto corner = [&](int i) {
@@ -145,14 +132,18 @@ TSplineSurfaceCheck checkAgainstScan(SplineModel model, const TMesh& mesh,
       w = int(k);
   }
   std::vector<Eigen::Vector3d> targets;
+  std::vector<FitBasisTerm> terms;
   for (const int k : worst) {
     if (k < 0) continue;
-    Eigen::Vector3d normal;
-    const Eigen::Vector3d point = surfacePoint(samples[std::size_t(k)], normal);
+    const FacePoint& p = samples[std::size_t(k)];
+    Eigen::Vector3d ds, dt;
+    if (!evaluateFitTangents(surface.fitSpace(), fit.controlPoints, p, terms, ds, dt)) continue;
+    const Eigen::Vector3d normal = ds.cross(dt).normalized();
+    const Eigen::Vector3d point = evaluateFitSurface(surface.fitSpace(), fit.controlPoints, p);
     const ClosestPoint closest = scanDistance.query(point);
     const Eigen::Vector3d offset = (closest.closest - point).normalized();
     if (normal.dot(scanNormal(closest.face)) > 0.5 && std::abs(offset.dot(normal)) > 0.8) {
-      check.strays.push_back(samples[std::size_t(k)]);
+      check.strays.push_back(p);
       targets.push_back(closest.closest);
     }
   }
