@@ -251,9 +251,10 @@ TEST_CASE(
   // after its first round. Two repair searches follow, one correcting the samples' parameters,
   // then one holding them; each step fits the four remedies (split the face, stiffen it, the
   // same with its 8 neighbours) from the round it keeps, and keeps the one that folds least, only
-  // when it is within the tolerance (the round repaired out of it: its excess within 1.25 times
-  // the round's) and folds less. The search's end that folds less is returned; a search stops at
-  // a fit without folds, and the second runs only when the first still folds.
+  // when it is within the tolerance (when the round repaired is out of it: its excess within 1.25
+  // times the least the rounds met) and folds less. The search's end that folds less is
+  // returned; a search stops at a fit without folds, and the second runs only when the first
+  // still folds.
   struct Case {
     const char* name;
     std::vector<int> folds;     // per measurement: the first round, then every repair fit

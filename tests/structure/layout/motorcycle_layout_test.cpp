@@ -272,8 +272,8 @@ TEST_CASE(
   const MotorcycleLayout layout(flat.surface, flat.lengths);
   checkTiling(flat, layout, 1e-7);
   // Which trace stops which depends on the last bits of the flat metric (edge lengths that the
-  // square's symmetry makes equal differ by 1e-15): 4 rectangles on one machine, 6 on another
-  // (its BLAS kernels). Both tile the surface without a sliver.
+  // square's symmetry makes equal differ by 1e-15): 4 rectangles on one machine, 6 on another.
+  // Both tile the surface without a sliver.
   CHECK(layout.rectangles().size() >= 4);
   for (const auto& r : layout.rectangles())
     CHECK(std::min(r.width(), r.height()) > 0.05 * std::sqrt(flatArea(flat)));
