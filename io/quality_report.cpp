@@ -53,6 +53,7 @@ std::string qualityJson(const spline::SurfaceQuality& quality) {
   }
   out["folds"] = {{"total", folds.total()},
                   {"against_scan", folds.againstScan},
+                  {"at_scan_folds", folds.atScanFolds},
                   {"triangles", folds.triangles},
                   {"fraction", folds.fraction},
                   {"worst_against_scan", locationJson(folds.worstAgainstScan)},

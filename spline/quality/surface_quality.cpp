@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 #include <tuple>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -181,8 +182,8 @@ ClosestSurfacePoint project(const FitSpace& space, const Eigen::MatrixXd& contro
 // `face` with barycentric coordinates `at`: the face's own unit normal (`faceNormals`), or inside
 // an edge or at a vertex the nearest of those of the faces holding it; -2 when all of those are
 // degenerate (zero normals). A face `flipped` (folded against most of its neighbours: a sliver
-// turned over, as scanners leave them at rims) has no one normal: the nearest of its own and its
-// neighbours' counts.
+// turned over, as scanners leave them at rims; empty: none is) has no one normal: the nearest of
+// its own and its neighbours' counts.
 double cosineToScan(const structure::TriMesh& scan, const std::vector<Vector3d>& faceNormals,
                     const std::vector<char>& flipped, int face, const Vector3d& at,
                     const Vector3d& normal) {
@@ -192,7 +193,7 @@ double cosineToScan(const structure::TriMesh& scan, const std::vector<Vector3d>&
       return n.isZero() ? -2.0 : normal.dot(n);
     };
     double best = faceCosine(f);
-    if (flipped[std::size_t(f.idx())])
+    if (!flipped.empty() && flipped[std::size_t(f.idx())])
       for (const auto g : scan.ff_range(f)) best = std::max(best, faceCosine(g));
     return best;
   };
@@ -212,6 +213,42 @@ double cosineToScan(const structure::TriMesh& scan, const std::vector<Vector3d>&
       holds = holds && corner;
     }
     if (holds) best = std::max(best, cosine(f));
+  }
+  return best;
+}
+
+// Where the scan folds (adjacent triangles' normals more than 90 degrees apart, as along a
+// crumpled fin a scanner left) it has no one normal, and a smooth surface rounds the fold off.
+// The cosine of the smallest angle between `normal` and the normals of the triangles on either
+// side of the folds within `reach` of `closest` (on face `face`), walking from `face` over the
+// edges within `reach` of it, but not into `flipped` triangles (a sliver turned over a face does
+// not excuse a surface that turns over above the face); -2 when there is no such fold.
+double cosineAtScanFolds(const structure::TriMesh& scan, const std::vector<Vector3d>& faceNormals,
+                         const std::vector<char>& flipped, int face, const Vector3d& closest,
+                         double reach, const Vector3d& normal) {
+  const auto withinReach = [&](structure::TriMesh::HalfedgeHandle h) {
+    const auto& a = scan.point(scan.from_vertex_handle(h));
+    const auto& b = scan.point(scan.to_vertex_handle(h));
+    const Vector3d from(a[0], a[1], a[2]), along = Vector3d(b[0], b[1], b[2]) - from;
+    const double length2 = along.squaredNorm();
+    const double t =
+        length2 > 0.0 ? std::clamp((closest - from).dot(along) / length2, 0.0, 1.0) : 0.0;
+    return (closest - from - t * along).norm() <= reach;
+  };
+  double best = -2.0;
+  std::vector<int> walk{face};
+  std::unordered_set<int> visited{face};
+  for (std::size_t next = 0; next < walk.size(); ++next) {
+    const auto f = scan.face_handle(walk[next]);
+    const Vector3d& nf = faceNormals[std::size_t(f.idx())];
+    for (const auto h : scan.fh_range(f)) {
+      const auto g = scan.opposite_face_handle(h);
+      if (!g.is_valid() || flipped[std::size_t(g.idx())] || !withinReach(h)) continue;
+      const Vector3d& ng = faceNormals[std::size_t(g.idx())];
+      if (!nf.isZero() && !ng.isZero() && nf.dot(ng) < 0.0)
+        best = std::max({best, normal.dot(nf), normal.dot(ng)});
+      if (visited.insert(g.idx()).second) walk.push_back(g.idx());
+    }
   }
   return best;
 }
@@ -341,11 +378,27 @@ void measureAgainstScan(const ModelSurface& surface, const Eigen::MatrixXd& cont
     flippedScanFaces[std::size_t(f.idx())] = 2 * against > neighbours;
   }
   for (std::size_t k = 0; k < faces.size(); ++k) {
-    const double cosine = cosineToScan(scan, scanFaceNormals, flippedScanFaces, onScan[k].face,
-                                       onScan[k].barycentric, coarse.faces.normals[faces[k]]);
+    const Vector3d& normal = coarse.faces.normals[faces[k]];
+    const structure::ClosestPoint& closest = onScan[k];
+    double cosine = cosineToScan(scan, scanFaceNormals, flippedScanFaces, closest.face,
+                                 closest.barycentric, normal);
     if (cosine < -1.5) continue;
+    if (cosine < 0.0) {
+      const auto& corners = coarse.t.mesh.faces[faces[k]];
+      double reach = 0.0;
+      for (std::size_t c = 0; c < corners.size(); ++c)
+        reach = std::max(reach, (positionOf(coarse.t.mesh, corners[c]) -
+                                 positionOf(coarse.t.mesh, corners[(c + 1) % corners.size()]))
+                                    .norm());
+      cosine = std::max(cosine, cosineAtScanFolds(scan, scanFaceNormals, flippedScanFaces,
+                                                  closest.face, closest.closest, reach, normal));
+    }
     const double angle = degrees(cosine);
-    if (angle <= 90.0) continue;
+    if (angle <= 90.0) {
+      folds.atScanFolds +=
+          cosineToScan(scan, scanFaceNormals, {}, closest.face, closest.barycentric, normal) < 0.0;
+      continue;
+    }
     ++folds.againstScan;
     const SurfaceLocation at{centroids[k],
                              coarse.locate(coarse.t.mesh.faces[faces[k]][0]).parameter};

@@ -85,10 +85,19 @@ struct SurfaceFolds {
   /// Triangles of the coarser tessellation (over the scan) whose normal makes more than 90 degrees
   /// with the scan's normal at the closest scan point to their centroid (the normal of the scan
   /// triangle there; on a scan edge or vertex, the closest of the normals of the triangles holding
-  /// it; a scan triangle flipped, folded by more than 90 degrees against most of its neighbours,
-  /// has no one normal: the closest of its own and its neighbours'), out of `triangles`; 0 without
-  /// a scan.
+  /// it), out of `triangles`; 0 without a scan. Where the scan itself folds, a scan triangle has
+  /// no one normal: one flipped, folded by more than 90 degrees against most of its neighbours,
+  /// takes the closest of its own and its neighbours'; one folded against some neighbours (a
+  /// crumpled fin) the closest of its own and those of its neighbours but the flipped ones' whose
+  /// shared edge is within the tessellation triangle's longest edge of the closest point (a smooth
+  /// surface rounds a fold off; farther along the scan than its triangle reaches, it turns with
+  /// the scan or folds).
   int againstScan = 0;
+  /// Triangles facing more than 90 degrees away from the normal of every scan triangle holding
+  /// their closest scan point that the rule above accepts because the scan folds there (not in
+  /// total()): elk.off's fitted surface runs smoothly past a crumpled fin of its scan, and all 18
+  /// of its folds were there.
+  int atScanFolds = 0;
   int triangles = 0;
   /// againstScan / triangles.
   double fraction = 0.0;

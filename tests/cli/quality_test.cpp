@@ -32,6 +32,7 @@ void checkQuality(const nlohmann::json& quality, bool withScan) {
   CHECK(quality.contains("distances") == withScan);
   CHECK(quality["folds"]["total"].get<int>() == quality["folds"]["against_scan"].get<int>() +
                                                     quality["folds"]["adjacent_pairs"].get<int>());
+  CHECK(quality["folds"]["at_scan_folds"].is_number_integer());
   const auto& smooth = quality["smoothness"];
   CHECK(smooth["coarse"]["resolution"] == 3);
   CHECK(smooth["fine"]["resolution"] == 6);

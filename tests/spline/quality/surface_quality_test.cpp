@@ -225,6 +225,42 @@ TEST_CASE("surface_quality: a flipped scan triangle is judged by its neighbours'
   CHECK(spline::measureQuality(model, surface, pulled, &scan, options).folds.againstScan > 0);
 }
 
+TEST_CASE("surface_quality: a crumpled fin of the scan excuses the surface only near its folds",
+          "[spline]") {
+  // The scan in the (x, z) plane, drawn along y over the flat surface: a sheet below it that
+  // folds back over itself (facing down), then up into a steep fin and down again to the sheet.
+  // Over the part folded back the flat surface faces away from its closest scan triangles, as a
+  // smooth fit does where a scanner left a crumpled fin; those within a coarse triangle's length
+  // (about 0.47 here) of a fold are excused, the others are folds.
+  const auto measure = [](const std::vector<std::array<double, 2>>& section) {
+    spline::SplineModel model = gridModel(6, 5, flat);
+    structure::PolygonSoup soup;
+    for (const auto& [x, z] : section) {
+      soup.positions.push_back({x, 0.0, z});
+      soup.positions.push_back({x, 5.0, z});
+    }
+    for (std::int64_t k = 0; k + 1 < std::int64_t(section.size()); ++k) {
+      soup.faces.push_back({2 * k, 2 * k + 2, 2 * k + 3});
+      soup.faces.push_back({2 * k, 2 * k + 3, 2 * k + 1});
+    }
+    const structure::TriMesh scan = structure::toTriMesh(soup);
+    model.surfaceVertices = structure::pointMatrix(soup.positions);
+    model.surfaceFaces = structure::triangleIndices(soup);
+    model.surfaceVertexTMeshPoints.assign(soup.positions.size(), {0, {0.0, 0.0}});
+    return spline::measureQuality(model, &scan).folds;
+  };
+  // Folded back from x = 5 to 1: most of it is far from both folds.
+  const spline::SurfaceFolds wide =
+      measure({{0, -0.05}, {5, -0.05}, {1, -0.01}, {1.1, 1.0}, {5.5, -0.05}, {6, -0.05}});
+  CHECK(wide.atScanFolds > 0);
+  CHECK(wide.againstScan > wide.atScanFolds);
+  // Folded back from x = 3.2 to 3: all of it is near one.
+  const spline::SurfaceFolds narrow =
+      measure({{0, -0.05}, {3.2, -0.05}, {3, -0.01}, {3.02, 0.3}, {3.4, -0.05}, {6, -0.05}});
+  CHECK(narrow.atScanFolds > 0);
+  CHECK(narrow.againstScan == 0);
+}
+
 TEST_CASE("surface_quality: a control point pulled through the surface folds it", "[spline]") {
   spline::SplineModel model = gridModel(6, 6, flat);
   const structure::TriMesh scan = scanOf(model, 2, unmoved);
