@@ -223,13 +223,22 @@ TSplineAdaptiveFitResult fitTSplineAdaptively(const TMesh& mesh,
   state.fitOptions = options.fit;
   state.fitOptions.faceFairing = Eigen::VectorXd::Ones(mesh.numFaces());
   int previousFolds = std::numeric_limits<int>::max();
-  // The best round within the tolerance so far, and while there is none, every round (see the
-  // header).
+  // The best round within the tolerance so far, and while there is none, every round whose
+  // excess is within excessSlack times the least met (see the header): the least only falls, so
+  // a round dropped can never be kept, and each holds a T-mesh, a fit and the samples.
   std::optional<FitState> kept;
   std::vector<FitState> outside;
   const auto keepIfBetter = [&](const FitState& s) {
     if (!s.within()) {
-      if (!kept) outside.push_back(s);
+      if (kept) return;
+      outside.push_back(s);
+      double least = std::numeric_limits<double>::infinity();
+      for (const FitState& o : outside) least = std::min(least, o.excess(options));
+      outside.erase(std::remove_if(outside.begin(), outside.end(),
+                                   [&](const FitState& o) {
+                                     return o.excess(options) > options.excessSlack * least;
+                                   }),
+                    outside.end());
     } else if (!kept || s.check.foldCount <= kept->check.foldCount) {
       kept = s;
       outside.clear();
