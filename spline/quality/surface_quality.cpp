@@ -380,9 +380,12 @@ void measureAgainstScan(const ModelSurface& surface, const Eigen::MatrixXd& cont
   for (std::size_t k = 0; k < faces.size(); ++k) {
     const Vector3d& normal = coarse.faces.normals[faces[k]];
     const structure::ClosestPoint& closest = onScan[k];
+    // Without the rules for the scan's slivers and folds first: most triangles face its way.
+    const double plain =
+        cosineToScan(scan, scanFaceNormals, {}, closest.face, closest.barycentric, normal);
+    if (plain < -1.5 || plain >= 0.0) continue;
     double cosine = cosineToScan(scan, scanFaceNormals, flippedScanFaces, closest.face,
                                  closest.barycentric, normal);
-    if (cosine < -1.5) continue;
     if (cosine < 0.0) {
       const auto& corners = coarse.t.mesh.faces[faces[k]];
       double reach = 0.0;
@@ -395,8 +398,7 @@ void measureAgainstScan(const ModelSurface& surface, const Eigen::MatrixXd& cont
     }
     const double angle = degrees(cosine);
     if (angle <= 90.0) {
-      folds.atScanFolds +=
-          cosineToScan(scan, scanFaceNormals, {}, closest.face, closest.barycentric, normal) < 0.0;
+      ++folds.atScanFolds;
       continue;
     }
     ++folds.againstScan;
