@@ -62,7 +62,7 @@ std::string qualityJson(const spline::SurfaceQuality& quality) {
                   {"worst_pair", locationJson(folds.worstPair)}};
   out["smoothness"] = {{"coarse", dihedralJson(smooth.coarse)},
                        {"fine", dihedralJson(smooth.fine)},
-                       {"p99_ratio", smooth.p99Ratio},
+                       {"p99_ratio", smooth.p99Ratio ? Json(*smooth.p99Ratio) : Json(nullptr)},
                        {"creases", smooth.creases},
                        {"crease_degrees", smooth.creaseDegrees}};
   out["regularity"] = {{"samples", regularity.samples},
@@ -84,9 +84,13 @@ std::string qualitySummary(const spline::SurfaceQuality& quality) {
   const spline::SurfaceSmoothness& smooth = quality.smoothness;
   out << quality.folds.total() << " folds; dihedral p99 " << smooth.coarse.p99 << " / "
       << smooth.fine.p99 << " deg at resolutions " << smooth.coarse.resolution << " / "
-      << smooth.fine.resolution << " (ratio " << smooth.p99Ratio << "), max " << smooth.fine.max
-      << " deg; smallest area element " << quality.regularity.minRelativeJacobian
-      << " of the median";
+      << smooth.fine.resolution << " (ratio ";
+  if (smooth.p99Ratio)
+    out << *smooth.p99Ratio;
+  else
+    out << "none: flat";
+  out << "), max " << smooth.fine.max << " deg; smallest area element "
+      << quality.regularity.minRelativeJacobian << " of the median";
   return out.str();
 }
 

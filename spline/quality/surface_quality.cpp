@@ -493,7 +493,8 @@ SurfaceQuality measureQuality(const SplineModel& model, const ModelSurface& surf
   SurfaceSmoothness& smooth = quality.smoothness;
   smooth.coarse = dihedrals(coarse, options.resolution);
   smooth.fine = dihedrals(fine, 2 * options.resolution);
-  smooth.p99Ratio = smooth.fine.p99 > 0.0 ? smooth.coarse.p99 / smooth.fine.p99 : 0.0;
+  if (smooth.fine.p99 >= SurfaceSmoothness::kFlatDegrees)
+    smooth.p99Ratio = smooth.coarse.p99 / smooth.fine.p99;
   smooth.creaseDegrees = options.creaseDegrees;
   double sharpest = 0.0;
   for (const auto& pair : coarse.faces.pairs) {

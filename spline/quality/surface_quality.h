@@ -8,6 +8,7 @@
 // Everything is measured where export keeps the surface: faces over the scan's fill patches
 // (SplineModel::surfaceFaceFilled, filled_faces.h) are left out.
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -128,8 +129,11 @@ struct SurfaceSmoothness {
   /// At QualityOptions::resolution r and at 2r.
   DihedralPercentiles coarse, fine;
   /// coarse.p99 / fine.p99: about 2 where the surface is C1 (the angles halve with the spacing),
-  /// about 1 at a crease or fold (they do not); 0 when fine.p99 is 0 (a flat surface).
-  double p99Ratio = 0.0;
+  /// about 1 at a crease or fold (they do not). Empty when fine.p99 is below kFlatDegrees: 99%
+  /// of the pairs are flat to round-off, and a quotient of round-offs says nothing.
+  std::optional<double> p99Ratio;
+  /// Dihedral angles below this (degrees) are round-off of a plane's normals.
+  static constexpr double kFlatDegrees = 1e-6;
   /// Adjacent pairs of the coarser tessellation whose dihedral angle exceeds creaseDegrees
   /// (QualityOptions::creaseDegrees).
   int creases = 0;

@@ -133,8 +133,23 @@ TEST_CASE("surface_quality: halving the spacing halves the dihedral angles of a 
   CHECK(q.smoothness.coarse.resolution == 3);
   CHECK(q.smoothness.fine.resolution == 6);
   CHECK(q.smoothness.fine.p99 > 0.0);
-  CHECK(q.smoothness.p99Ratio > 1.7);
-  CHECK(q.smoothness.p99Ratio < 2.3);
+  CHECK(q.smoothness.p99Ratio.value_or(0.0) > 1.7);
+  CHECK(q.smoothness.p99Ratio.value_or(99.0) < 2.3);
+}
+
+TEST_CASE("surface_quality: a plane has no p99 ratio", "[spline]") {
+  // Every dihedral angle is round-off: their quotient would be noise, not a smoothness figure.
+  spline::SplineModel model =
+      gridModel(4, 4, [](int i, int j) { return Eigen::Vector3d(i, 0.5 * j, 0.0); });
+  const spline::SurfaceQuality q = spline::measureQuality(model, nullptr);
+  CHECK(q.smoothness.fine.p99 < spline::SurfaceSmoothness::kFlatDegrees);
+  CHECK_FALSE(q.smoothness.p99Ratio.has_value());
+  CHECK(q.smoothness.creases == 0);
+  // A slight bend brings it back.
+  model = gridModel(4, 4, [](int i, int j) { return Eigen::Vector3d(i, 0.5 * j, 0.01 * i * i); });
+  const spline::SurfaceQuality bent = spline::measureQuality(model, nullptr);
+  REQUIRE(bent.smoothness.p99Ratio.has_value());
+  CHECK(*bent.smoothness.p99Ratio > 1.7);
 }
 
 TEST_CASE("surface_quality: a crease keeps its dihedral angle at any resolution", "[spline]") {
@@ -151,7 +166,7 @@ TEST_CASE("surface_quality: a crease keeps its dihedral angle at any resolution"
   CHECK(q.smoothness.coarse.max == Approx(crease).epsilon(1e-9));
   CHECK(q.smoothness.fine.max == Approx(crease).epsilon(1e-9));
   CHECK(q.smoothness.fine.p99 == Approx(crease).epsilon(1e-9));
-  CHECK(q.smoothness.p99Ratio < 1.3);
+  CHECK(q.smoothness.p99Ratio.value_or(99.0) < 1.3);
   CHECK(q.smoothness.creases > 0);
   CHECK(q.folds.total() == 0);
   // The crease pairs are the marked faces of a picture.
