@@ -326,13 +326,14 @@ TSplineSpace::TSplineSpace(TMesh mesh) : mesh_(std::move(mesh)) {
     const double d = region.cellSize;
     for (int k = 0; k < region.valence; ++k) {
       // The cap's functions on the faces off the cone: the face's 4 x 4 block of anchors never
-      // has the cone inside, so the sector frame develops it without winding.
-      for (int b = 0; b < 3; ++b)
-        for (int a = 0; a < 3; ++a) {
+      // has the cone inside, so the sector frame develops it without winding. Only the cone and
+      // its one ring (indices -1..1) anchor the cap's functions.
+      for (int b = 0; b < kCapCells; ++b)
+        for (int a = 0; a < kCapCells; ++a) {
           if (a == 0 && b == 0) continue;
-          const DevelopedFace& cell = region.cells[std::size_t(k)][std::size_t(4 * b + a)];
-          for (int j = b - 1; j <= b + 2; ++j)
-            for (int i = a - 1; i <= a + 2; ++i) {
+          const DevelopedFace& cell = region.cells[std::size_t(k)][std::size_t(kCapCells * b + a)];
+          for (int j = b - 1; j <= std::min(b + 2, 1); ++j)
+            for (int i = a - 1; i <= std::min(a + 2, 1); ++i) {
               const int u = region.vertexAt(k, i, j);
               if (capRegionOf[std::size_t(u)] != int(r)) continue;
               pieces_[std::size_t(cell.face)].push_back(

@@ -76,15 +76,15 @@ TSplineFitRound fitAndMeasure(FitState& state, int round, const TSplineAdaptiveF
   return summary;
 }
 
-// The faces of `candidates` (worst first) to split: the longest run whose faces, with the whole
-// cap regions they touch (no T-junction may enter one), fit the control point budget (a split
-// adds about five vertices: one inside, four on sides).
+// The faces of `candidates` (worst first) to split: the longest run whose faces, with the cells
+// around the cones whose caps they touch (withTouchedCapsSplit), fit the control point budget (a
+// split adds about five vertices: one inside, four on sides).
 std::vector<int> splitWithinBudget(const FitState& state, const std::vector<int>& candidates,
                                    const TSplineAdaptiveFitOptions& options) {
   const std::size_t budget = std::size_t(
       std::max(0, (options.maxControlPoints - int(state.fit.controlPoints.rows())) / 5));
   const auto closure = [&](std::size_t length) {
-    return withWholeCapRegions(state.mesh, {candidates.begin(), candidates.begin() + length});
+    return withTouchedCapsSplit(state.mesh, {candidates.begin(), candidates.begin() + length});
   };
   std::size_t fitting = 0, over = candidates.size() + 1;
   while (over - fitting > 1) {

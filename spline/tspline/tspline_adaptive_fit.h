@@ -9,8 +9,9 @@
 // loop also acts on it: points of the surface that stray from the scan become samples (their
 // closest scan points) and their faces are refined like the samples'; faces where the surface
 // folds get a stiffer fairing term instead (more freedom would not unfold them); and the
-// tolerance is reached only when the measurement accepts the surface too. A cone's cap region
-// (tspline_cap.h) is split whole or not at all, so that no T-junction enters it.
+// tolerance is reached only when the measurement accepts the surface too. A split that touches a
+// cone's cap region (tspline_cap.h) splits the cells around the cone too, so that the cap comes
+// back at half the size instead of a T-junction entering it.
 //
 // The loop returns its best round, not always its last: of the rounds whose samples and measured
 // distances are within the tolerance, the one with the fewest folds (the latest of equals).
@@ -75,7 +76,8 @@ struct TSplineSurfaceCheck {
 
 /// What the repair does to the faces where the round it starts from folds.
 enum class FoldRemedy {
-  /// Split them into four (cap regions whole), within the control point budget.
+  /// Split them into four (with the cells around cones whose caps they touch), within the control
+  /// point budget.
   Split,
   /// Multiply their fairing factor by foldFairing, up to maxFoldFairing.
   Stiffen,

@@ -10,7 +10,7 @@ namespace mspline::spline {
 
 namespace {
 
-constexpr int kCells = 4;  // cells per sector side that must be uniform
+constexpr int kCells = kCapCells;
 constexpr int kMaxValence = 64;
 
 // Uniform cubic B-spline to Bezier: row i gives b_i from the B-spline coefficients P_{-1..2}.
@@ -76,7 +76,7 @@ int TSplineCapRegion::vertexAt(int sector, int i, int j) const {
   const int n = valence;
   if (j < 0) return vertexAt((sector + n - 1) % n, -j, i);
   if (i < 0) return vertexAt((sector + 1) % n, j, -i);
-  return vertices[std::size_t(sector)][std::size_t(5 * j + i)];
+  return vertices[std::size_t(sector)][std::size_t((kCapCells + 1) * j + i)];
 }
 
 std::string findCapRegion(const TMesh& mesh, int vertex, TSplineCapRegion& region,
@@ -132,7 +132,7 @@ std::string findCapRegion(const TMesh& mesh, int vertex, TSplineCapRegion& regio
       return "its faces are not squares of one size";
     developed = developer.develop(f, toSector(first, c), Eigen::Vector2d::Zero(),
                                   Eigen::Vector2d::Constant(kCells * d), true);
-    std::array<bool, 16> filled{};
+    std::array<bool, kCells * kCells> filled{};
     auto& vertices = region.vertices[std::size_t(k)];
     vertices.fill(-1);
     for (const DevelopedFace& cell : developed) {
@@ -147,13 +147,13 @@ std::string findCapRegion(const TMesh& mesh, int vertex, TSplineCapRegion& regio
           ia >= kCells || ib >= kCells)
         return "face " + std::to_string(cell.face) +
                " near it is not a square cell of the grid around it (T-junctions or another size)";
-      if (filled[std::size_t(4 * ib + ia)]) return "the cells around it overlap";
-      filled[std::size_t(4 * ib + ia)] = true;
-      region.cells[std::size_t(k)][std::size_t(4 * ib + ia)] = cell;
+      if (filled[std::size_t(kCells * ib + ia)]) return "the cells around it overlap";
+      filled[std::size_t(kCells * ib + ia)] = true;
+      region.cells[std::size_t(k)][std::size_t(kCells * ib + ia)] = cell;
       allFaces.push_back(cell.face);
       for (std::size_t m = 0; m < 4; ++m) {
         const Eigen::Vector2d p = cell.toChart.apply(cf.positions[m]) / d;
-        int& at = vertices[std::size_t(5 * std::lround(p.y()) + std::lround(p.x()))];
+        int& at = vertices[std::size_t((kCells + 1) * std::lround(p.y()) + std::lround(p.x()))];
         if (at >= 0 && at != cf.vertices[m]) return "the grid around it is not a simple one";
         at = cf.vertices[m];
       }
@@ -163,14 +163,16 @@ std::string findCapRegion(const TMesh& mesh, int vertex, TSplineCapRegion& regio
     if (vertices[0] != vertex) return "the grid around it is not a simple one";
     for (std::size_t m = 1; m < vertices.size(); ++m) {
       const int u = vertices[m];
-      if (mesh.onBoundary[std::size_t(u)]) return "the boundary is within 4 cells of it";
+      if (mesh.onBoundary[std::size_t(u)])
+        return "the boundary is within " + std::to_string(kCells) + " cells of it";
       if (mesh.quarterTurnsAround[std::size_t(u)] != 4)
-        return "extraordinary vertex " + std::to_string(u) + " is within 4 cells of it";
+        return "extraordinary vertex " + std::to_string(u) + " is within " +
+               std::to_string(kCells) + " cells of it";
     }
   }
   for (int k = 0; k < n; ++k)
     for (int j = 0; j <= kCells; ++j)
-      if (region.vertices[std::size_t(k)][std::size_t(5 * j)] !=
+      if (region.vertices[std::size_t(k)][std::size_t((kCells + 1) * j)] !=
           region.vertices[std::size_t((k + 1) % n)][std::size_t(j)])
         return "its sectors do not glue into one grid";
   std::sort(allFaces.begin(), allFaces.end());

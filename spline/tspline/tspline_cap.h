@@ -4,13 +4,17 @@
 // Around an extraordinary vertex v of valence n (n faces with v as a corner, n >= 2), sector k is
 // the face F_k around v (counter-clockwise) with its sector frame: v at the origin, F_k in the
 // first quadrant, the x-axis along edge k and the y-axis along edge k + 1 (F_{k+1} lies across
-// it, F_{k-1} across the x-axis). A cap applies when in every sector the 4 x 4 cells (a, b),
-// a, b in 0..3, are quads of one size d x d without T-junctions, distinct, and all their vertices
+// it, F_{k-1} across the x-axis). A cap applies when in every sector the 3 x 3 cells (a, b),
+// a, b in 0..2, are quads of one size d x d without T-junctions, distinct, and all their vertices
 // but v regular interior vertices: then v and its 2n one-ring vertices anchor uniform B-splines
-// (knots -2d .. 2d), every face of the 3 x 3 cells of a sector but F_k is an ordinary uniform
-// B-spline face, and every F_k is one bicubic Bezier patch. Cells a, b = 3 are asked for because
-// the B-splines over the cells 1 and 2 have knots up to index 4: with them uniform, the patches on
-// F_k meet their neighbours C1.
+// (knots -2d .. 2d, reaching the vertices at index 3), every face of the 3 x 3 cells of a sector
+// but F_k is an ordinary T-spline face, and every F_k is one bicubic Bezier patch. Nothing beyond
+// index 3 is asked for: on F_k = [0, d]^2 a cubic B-spline depends only on its knots in
+// [-2d, 3d] (the first piece of N[t0..t4] only on t0..t3, the last only on t1..t4), so the 16
+// functions there are the uniform ones whatever lies farther out, and the patch, being the true
+// T-spline away from the corner coefficients, meets the faces around it as the T-spline does.
+// T-junctions and other cones may sit at index 4 (refineAroundCones splits 2 cells around a cone
+// without a cap: 4 half cells, the T-junctions beyond the 3 a cap needs).
 //
 // The patch on F_k starts from the uniform B-spline's Bezier coefficients b_ij, computed in the
 // sector frame from the net P_ij, i, j in -1..2 (rows and columns -1 lie in the sectors k - 1 and
@@ -45,19 +49,23 @@ namespace mspline::spline {
 /// The cubic Bernstein polynomials at u in [0, 1], with first (d1) and second (d2) derivatives.
 void cubicBernstein(double u, double b[4], double* d1 = nullptr, double* d2 = nullptr);
 
+/// Cells per sector side that a cap needs (see above).
+constexpr int kCapCells = 3;
+
 /// The cells around an extraordinary vertex that a cap needs, in sector frames.
 struct TSplineCapRegion {
   int vertex = -1;
   int valence = 0;
   double cellSize = 0.0;
-  /// Per sector: cell (a, b) at index 4 b + a, a face with the motion of its frame into the sector
-  /// frame.
-  std::vector<std::array<DevelopedFace, 16>> cells;
-  /// Per sector: the vertex at (i, j) * cellSize, index 5 j + i, i, j in 0..4.
-  std::vector<std::array<int, 25>> vertices;
+  /// Per sector: cell (a, b) at index kCapCells b + a, a face with the motion of its frame into
+  /// the sector frame.
+  std::vector<std::array<DevelopedFace, kCapCells * kCapCells>> cells;
+  /// Per sector: the vertex at (i, j) * cellSize, index (kCapCells + 1) j + i, i, j in
+  /// 0..kCapCells.
+  std::vector<std::array<int, (kCapCells + 1) * (kCapCells + 1)>> vertices;
 
-  /// The vertex at (i, j) * cellSize of sector k's frame, i, j in -1..4 and not both negative:
-  /// a negative row or column lies in the neighbouring sector.
+  /// The vertex at (i, j) * cellSize of sector k's frame, i, j in -kCapCells..kCapCells and not
+  /// both negative: a negative row or column lies in the neighbouring sector.
   int vertexAt(int sector, int i, int j) const;
 };
 

@@ -369,17 +369,18 @@ class Reexpression {
 
 namespace {
 
-// `faces` and every face of each region that holds one of them or shares a side with one, until
-// no further region is touched.
+// `faces` and, for each cone whose region holds one of them or shares a side with one, its cells
+// within 2 of the cone (kCapCells - 1 a sector side: split, they hold the cap's 3 x 3 half
+// cells, with the T-junctions at 4), until no further region is touched.
 std::vector<int> closeOverRegions(const TMesh& mesh, const std::vector<TSplineCapRegion>& regions,
                                   std::vector<int> faces) {
   std::vector<char> split(mesh.faces.size(), 0);
   for (int f : faces) split[std::size_t(f)] = 1;
-  std::vector<char> whole(regions.size(), 0);
+  std::vector<char> closed(regions.size(), 0);
   for (bool grown = true; grown;) {
     grown = false;
     for (std::size_t r = 0; r < regions.size(); ++r) {
-      if (whole[r]) continue;
+      if (closed[r]) continue;
       bool touched = false;
       for (const auto& cells : regions[r].cells)
         for (const DevelopedFace& cell : cells) {
@@ -389,13 +390,15 @@ std::vector<int> closeOverRegions(const TMesh& mesh, const std::vector<TSplineCa
             touched = touched || (twin >= 0 && split[std::size_t(twin)]);
         }
       if (!touched) continue;
-      whole[r] = 1;
+      closed[r] = 1;
       grown = true;
       for (const auto& cells : regions[r].cells)
-        for (const DevelopedFace& cell : cells)
-          if (!split[std::size_t(cell.face)]) {
-            split[std::size_t(cell.face)] = 1;
-            faces.push_back(cell.face);
+        for (int b = 0; b + 1 < kCapCells; ++b)
+          for (int a = 0; a + 1 < kCapCells; ++a) {
+            const int f = cells[std::size_t(kCapCells * b + a)].face;
+            if (split[std::size_t(f)]) continue;
+            split[std::size_t(f)] = 1;
+            faces.push_back(f);
           }
     }
   }
@@ -404,7 +407,7 @@ std::vector<int> closeOverRegions(const TMesh& mesh, const std::vector<TSplineCa
 
 }  // namespace
 
-std::vector<int> withWholeCapRegions(const TMesh& mesh, std::vector<int> faces) {
+std::vector<int> withTouchedCapsSplit(const TMesh& mesh, std::vector<int> faces) {
   return closeOverRegions(mesh, capRegions(mesh), std::move(faces));
 }
 
@@ -529,9 +532,9 @@ int refineAroundCones(TMesh& mesh, std::vector<FacePoint>& points, int maxRounds
     std::vector<std::vector<int>> facesAt(std::size_t(mesh.numVertices));
     for (int f = 0; f < mesh.numFaces(); ++f)
       for (int v : mesh.faces[std::size_t(f)].vertices) facesAt[std::size_t(v)].push_back(f);
-    // Faces within 3 cells of a cone without cap (3 rings of faces sharing a vertex: split, they
-    // are 6 half cells, and the T-junctions at their border lie beyond the 4 a cap needs); the
-    // cones with caps keep them, split whole where touched.
+    // Faces within 2 cells of a cone without cap (2 rings of faces sharing a vertex: split, they
+    // are 4 half cells, and the T-junctions at their border lie beyond the kCapCells = 3 a cap
+    // needs); the cones with caps keep them, split whole where touched.
     std::vector<char> marked(mesh.faces.size(), 0);
     std::vector<TSplineCapRegion> regions;
     std::vector<int> ring;
@@ -544,7 +547,7 @@ int refineAroundCones(TMesh& mesh, std::vector<FacePoint>& points, int maxRounds
         continue;
       }
       ring = facesAt[std::size_t(v)];
-      for (int step = 0; step < 3; ++step) {
+      for (int step = 0; step < 2; ++step) {
         std::vector<int> next;
         for (int f : ring) {
           if (marked[std::size_t(f)]) continue;

@@ -31,12 +31,12 @@ namespace mspline::spline {
 /// 1, or a coordinate not strictly inside the face.
 TMesh splitFace(const TMesh& mesh, int face, int axis, double coordinate);
 
-/// The faces to split into four (each cut through its middle both ways) so that no T-junction
-/// enters the cap region of an extraordinary vertex (tspline_cap.h): `faces`, then every face of
-/// each cone's region (its 4 x 4 cells per sector) that holds one of them or shares a side with
-/// one, until no further region is touched. A region split whole keeps a cap at half the cell
-/// size. Throws SolverError when `mesh` has a cone without a cap already.
-std::vector<int> withWholeCapRegions(const TMesh& mesh, std::vector<int> faces);
+/// The faces to split into four (each cut through its middle both ways) so that every cone keeps
+/// a cap (tspline_cap.h): `faces`, then for each cone whose region (its 3 x 3 cells a sector)
+/// holds one of them or shares a side with one, its cells within 2 of it, until no further region
+/// is touched. Split, those cells hold the cap at half the cell size. Throws SolverError when
+/// `mesh` has a cone without a cap already.
+std::vector<int> withTouchedCapsSplit(const TMesh& mesh, std::vector<int> faces);
 
 /// Splits each of `faces` (distinct) into four through its middle, giving the mesh that splitting
 /// them one after the other would (splitFace along x, then both halves along y), with one rebuild:
@@ -47,8 +47,8 @@ std::vector<int> withWholeCapRegions(const TMesh& mesh, std::vector<int> faces);
 void splitIntoFour(TMesh& mesh, const std::vector<int>& faces, std::vector<FacePoint>& points);
 
 /// Refines around the extraordinary vertices that have no cap (tspline_cap.h: another cone, a
-/// boundary or a T-junction within 4 cells, cells of other sizes): the faces within 3 cells of
-/// each are split into four, halving the distances in cells, until every cone has a cap or
+/// boundary or a T-junction within kCapCells = 3 cells, cells of other sizes): the faces within 2
+/// cells of each are split into four, halving the distances in cells, until every cone has a cap or
 /// `maxRounds` rounds are done (then TSplineSpace will say which cone has none). `points` follow
 /// their faces. Returns the faces split.
 int refineAroundCones(TMesh& mesh, std::vector<FacePoint>& points, int maxRounds = 4);

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <complex>
+#include <map>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -262,11 +263,11 @@ TEST_CASE("tspline caps: a T-junction in a cone's cap region is refused", "[spli
 }
 
 TEST_CASE("tspline caps: refinement keeps caps, or makes them where cones are close", "[spline]") {
-  // A face in a cap region: the whole region (16 cells a sector) is split with it.
+  // A face in a cap region: the cells within 2 of the cone (4 a sector) are split with it.
   const StarTMesh star = starTMesh(3);
   const std::vector<int> faces =
-      spline::withWholeCapRegions(star.mesh, {star.face(1, 2, 1), star.face(2, 5, 5)});
-  CHECK(faces.size() == 2 + 3 * 16 - 1);
+      spline::withTouchedCapsSplit(star.mesh, {star.face(1, 2, 1), star.face(2, 5, 5)});
+  CHECK(faces.size() == 2 + 3 * 4);
   spline::TMesh mesh = star.mesh;
   std::vector<spline::FacePoint> points{{star.face(0, 0, 0), {0.75, 0.25}}};
   spline::splitIntoFour(mesh, faces, points);
@@ -277,24 +278,86 @@ TEST_CASE("tspline caps: refinement keeps caps, or makes them where cones are cl
   // The point moved to the part holding it, in that part's frame.
   CHECK(points[0].face != star.face(0, 0, 0));
   CHECK(points[0].position.isApprox(Eigen::Vector2d(0.25, 0.25)));
-  // Splitting only a face next to the region would put a T-junction into it.
+  // Splitting only a face next to the region would put a T-junction into it; with the cells
+  // around the cone the cap comes back at half the size.
   spline::TMesh broken = star.mesh;
-  spline::splitIntoFour(broken, {star.face(0, 4, 0)}, points);
+  spline::splitIntoFour(broken, {star.face(0, 3, 0)}, points);
   CHECK_THROWS_AS(TSplineSpace(broken), structure::SolverError);
+  spline::TMesh closed = star.mesh;
+  const std::vector<int> next = spline::withTouchedCapsSplit(closed, {star.face(0, 3, 0)});
+  CHECK(next.size() == 1 + 3 * 4);
+  spline::splitIntoFour(closed, next, points);
+  CHECK(TSplineSpace(closed).capFaces().size() == 3);
 
-  // A cube of 2 x 2 cells a side: its corners 2 cells apart, then 4, then 8: capped.
+  // A cube of 2 x 2 cells a side: its corners 2 cells apart, then 4 half cells: capped.
   const test::CubeTMesh cube = test::cubeTMesh(2);
   spline::TMesh cubeMesh = cube.mesh;
   std::vector<spline::FacePoint> centres;
   for (int f = 0; f < cubeMesh.numFaces(); ++f) centres.push_back({f, {0.5, 0.5}});
   CHECK_THROWS_AS(TSplineSpace(cubeMesh), structure::SolverError);
-  CHECK(spline::refineAroundCones(cubeMesh, centres) == 24 + 96);
+  CHECK(spline::refineAroundCones(cubeMesh, centres) == 24);
   const TSplineSpace capped(cubeMesh);
   CHECK(capped.capFaces().size() == 8 * 3);
   for (const auto& p : centres) {
     const auto& face = cubeMesh.faces[std::size_t(p.face)];
-    CHECK(face.width == 0.25);
+    CHECK(face.width == 0.5);
     // Each old centre is a corner of the quarter cells now.
     CHECK((p.position.array() == 0.0).all());
+  }
+}
+
+TEST_CASE("tspline caps: T-junctions just beyond the 3 x 3 cells keep the patches exact",
+          "[spline]") {
+  // As refineAroundCones leaves a cone: its 2 x 2 cells a sector split, so the cap has 3 x 3 half
+  // cells and the T-junctions sit at 4 half cells. On the cap faces and the half cells next to
+  // them every function has its knots within 3 half cells of the cone, all uniform: the basis is
+  // a partition of unity there, and the patches meet the T-spline around them C1. (Farther out,
+  // at the corners of the split block, T-junctions cost the raw basis its partition of unity, as
+  // anywhere on a refined T-mesh; the rational normalization covers that.)
+  for (const int n : {3, 5}) {
+    INFO("valence " << n);
+    const StarTMesh star = starTMesh(n);
+    std::vector<int> split;
+    for (int k = 0; k < n; ++k)
+      for (int b = 0; b < 2; ++b)
+        for (int a = 0; a < 2; ++a) split.push_back(star.face(k, a, b));
+    // Points on the cap faces' outer sides x = 1/2 (seen from beyond them) and over the unsplit
+    // cell at the cone, given in the unsplit cells' frames and carried to their quarters.
+    std::vector<spline::FacePoint> points;
+    for (int k = 0; k < n; ++k)
+      for (int m = 1; m < 5; ++m) points.push_back({star.face(k, 0, 0), {0.5, 0.1 * m}});
+    const std::size_t sides = points.size();
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < 10; ++j)
+        for (int i = 0; i < 10; ++i)
+          points.push_back({star.face(k, 0, 0), {0.1 * i + 0.03, 0.1 * j + 0.07}});
+    spline::TMesh mesh = star.mesh;
+    spline::splitIntoFour(mesh, split, points);
+    const TSplineSpace space(mesh);
+    REQUIRE(int(space.capFaces().size()) == n);
+    CHECK(space.missingAnchors().empty());
+    std::vector<spline::TSplineBasisValue> basis, across;
+    double unity = 0.0, jump = 0.0;
+    for (std::size_t q = 0; q < points.size(); ++q) {
+      space.basisAt(points[q].face, points[q].position, basis, 1);
+      double sum = 0.0;
+      for (const auto& b : basis) sum += b.value;
+      unity = std::max(unity, std::abs(sum - 1.0));
+      if (q >= sides) continue;
+      // The same point seen from the cap face F_k (x = 1/2 in its frame): every function's value
+      // and first derivatives agree.
+      const int k = int(q / 4);
+      REQUIRE(points[q].face != star.face(k, 0, 0));
+      space.basisAt(star.face(k, 0, 0), {0.5, points[q].position.y()}, across, 1);
+      std::map<int, Eigen::Vector3d> difference;
+      const auto at = [&](int anchor) -> Eigen::Vector3d& {
+        return difference.try_emplace(anchor, Eigen::Vector3d::Zero()).first->second;
+      };
+      for (const auto& a : across) at(a.anchor) += Eigen::Vector3d(a.value, a.ds, a.dt);
+      for (const auto& b : basis) at(b.anchor) -= Eigen::Vector3d(b.value, b.ds, b.dt);
+      for (const auto& [anchor, d] : difference) jump = std::max(jump, d.cwiseAbs().maxCoeff());
+    }
+    CHECK(unity < 1e-12);
+    CHECK(jump < 1e-10);
   }
 }
