@@ -10,7 +10,6 @@ namespace mspline::spline {
 
 namespace {
 
-constexpr int kCells = kCapCells;
 constexpr int kMaxValence = 64;
 
 // Uniform cubic B-spline to Bezier: row i gives b_i from the B-spline coefficients P_{-1..2}.
@@ -131,8 +130,8 @@ std::string findCapRegion(const TMesh& mesh, int vertex, TSplineCapRegion& regio
     if (std::abs(first.width - d) > tolerance || std::abs(first.height - d) > tolerance)
       return "its faces are not squares of one size";
     developed = developer.develop(f, toSector(first, c), Eigen::Vector2d::Zero(),
-                                  Eigen::Vector2d::Constant(kCells * d), true);
-    std::array<bool, kCells * kCells> filled{};
+                                  Eigen::Vector2d::Constant(kCapCells * d), true);
+    std::array<bool, kCapCells * kCapCells> filled{};
     auto& vertices = region.vertices[std::size_t(k)];
     vertices.fill(-1);
     for (const DevelopedFace& cell : developed) {
@@ -144,16 +143,16 @@ std::string findCapRegion(const TMesh& mesh, int vertex, TSplineCapRegion& regio
       const int ia = int(std::lround(index.x())), ib = int(std::lround(index.y()));
       if (cf.vertices.size() != 4 || (lo - d * Eigen::Vector2d(ia, ib)).norm() > tolerance ||
           (hi - lo - Eigen::Vector2d::Constant(d)).norm() > tolerance || ia < 0 || ib < 0 ||
-          ia >= kCells || ib >= kCells)
+          ia >= kCapCells || ib >= kCapCells)
         return "face " + std::to_string(cell.face) +
                " near it is not a square cell of the grid around it (T-junctions or another size)";
-      if (filled[std::size_t(kCells * ib + ia)]) return "the cells around it overlap";
-      filled[std::size_t(kCells * ib + ia)] = true;
-      region.cells[std::size_t(k)][std::size_t(kCells * ib + ia)] = cell;
+      if (filled[std::size_t(kCapCells * ib + ia)]) return "the cells around it overlap";
+      filled[std::size_t(kCapCells * ib + ia)] = true;
+      region.cells[std::size_t(k)][std::size_t(kCapCells * ib + ia)] = cell;
       allFaces.push_back(cell.face);
       for (std::size_t m = 0; m < 4; ++m) {
         const Eigen::Vector2d p = cell.toChart.apply(cf.positions[m]) / d;
-        int& at = vertices[std::size_t((kCells + 1) * std::lround(p.y()) + std::lround(p.x()))];
+        int& at = vertices[std::size_t((kCapCells + 1) * std::lround(p.y()) + std::lround(p.x()))];
         if (at >= 0 && at != cf.vertices[m]) return "the grid around it is not a simple one";
         at = cf.vertices[m];
       }
@@ -164,15 +163,15 @@ std::string findCapRegion(const TMesh& mesh, int vertex, TSplineCapRegion& regio
     for (std::size_t m = 1; m < vertices.size(); ++m) {
       const int u = vertices[m];
       if (mesh.onBoundary[std::size_t(u)])
-        return "the boundary is within " + std::to_string(kCells) + " cells of it";
+        return "the boundary is within " + std::to_string(kCapCells) + " cells of it";
       if (mesh.quarterTurnsAround[std::size_t(u)] != 4)
         return "extraordinary vertex " + std::to_string(u) + " is within " +
-               std::to_string(kCells) + " cells of it";
+               std::to_string(kCapCells) + " cells of it";
     }
   }
   for (int k = 0; k < n; ++k)
-    for (int j = 0; j <= kCells; ++j)
-      if (region.vertices[std::size_t(k)][std::size_t((kCells + 1) * j)] !=
+    for (int j = 0; j <= kCapCells; ++j)
+      if (region.vertices[std::size_t(k)][std::size_t((kCapCells + 1) * j)] !=
           region.vertices[std::size_t((k + 1) % n)][std::size_t(j)])
         return "its sectors do not glue into one grid";
   std::sort(allFaces.begin(), allFaces.end());

@@ -532,9 +532,10 @@ int refineAroundCones(TMesh& mesh, std::vector<FacePoint>& points, int maxRounds
     std::vector<std::vector<int>> facesAt(std::size_t(mesh.numVertices));
     for (int f = 0; f < mesh.numFaces(); ++f)
       for (int v : mesh.faces[std::size_t(f)].vertices) facesAt[std::size_t(v)].push_back(f);
-    // Faces within 2 cells of a cone without cap (2 rings of faces sharing a vertex: split, they
-    // are 4 half cells, and the T-junctions at their border lie beyond the kCapCells = 3 a cap
-    // needs); the cones with caps keep them, split whole where touched.
+    // Faces within kCapCells - 1 cells of a cone without cap (rings of faces sharing a vertex:
+    // split, they are 2 kCapCells - 2 half cells, and the T-junctions at their border lie beyond
+    // the kCapCells a cap needs); the cones with caps keep them, the same cells split where
+    // touched (closeOverRegions).
     std::vector<char> marked(mesh.faces.size(), 0);
     std::vector<TSplineCapRegion> regions;
     std::vector<int> ring;
@@ -547,7 +548,7 @@ int refineAroundCones(TMesh& mesh, std::vector<FacePoint>& points, int maxRounds
         continue;
       }
       ring = facesAt[std::size_t(v)];
-      for (int step = 0; step < 2; ++step) {
+      for (int step = 0; step + 1 < kCapCells; ++step) {
         std::vector<int> next;
         for (int f : ring) {
           if (marked[std::size_t(f)]) continue;
