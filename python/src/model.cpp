@@ -168,9 +168,10 @@ double areaElement(const spline::FitSpace& space, const Eigen::MatrixXd& control
 
 // Points uniform by surface area, by rejection: a face drawn by its parameter area times a bound
 // on its area element, a uv uniform in it, kept with probability area element / bound. The bound
-// is twice the largest area element at the space's quadrature nodes in the face, raised when a
-// draw exceeds it. Drawing faces by their area and uv uniform in them, as it was, put too many
-// points where a face's parameterization compresses the surface.
+// is twice the largest area element at the space's quadrature nodes in the face; a draw that
+// exceeds it raises it, and the points kept so far, drawn under a bound that was not one, are
+// drawn again. Drawing faces by their area and uv uniform in them, as it was, put too many points
+// where a face's parameterization compresses the surface.
 py::dict sample(const Model& self, int count, unsigned long long seed) {
   if (count < 0) throw py::value_error("sample: a negative count (" + std::to_string(count) + ")");
   std::vector<FacePoint> parameters;
@@ -214,6 +215,9 @@ py::dict sample(const Model& self, int count, unsigned long long seed) {
           faceBound = 2.0 * element;
           envelope[std::size_t(face)] = parameterArea[std::size_t(face)] * faceBound;
           pickFace = std::discrete_distribution<int>(envelope.begin(), envelope.end());
+          parameters.clear();
+          k = -1;
+          break;
         }
         if (unit(random) * faceBound > element) continue;
         const Eigen::Vector3d point = spline::evaluateFitSurface(space, control, p);

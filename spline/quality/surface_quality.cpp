@@ -229,11 +229,9 @@ double cosineAtScanFolds(const structure::TriMesh& scan, const std::vector<Vecto
   const auto withinReach = [&](structure::TriMesh::HalfedgeHandle h) {
     const auto& a = scan.point(scan.from_vertex_handle(h));
     const auto& b = scan.point(scan.to_vertex_handle(h));
-    const Vector3d from(a[0], a[1], a[2]), along = Vector3d(b[0], b[1], b[2]) - from;
-    const double length2 = along.squaredNorm();
-    const double t =
-        length2 > 0.0 ? std::clamp((closest - from).dot(along) / length2, 0.0, 1.0) : 0.0;
-    return (closest - from - t * along).norm() <= reach;
+    const Vector3d from(a[0], a[1], a[2]), to(b[0], b[1], b[2]);
+    const double t = structure::segmentParameter(closest, from, to);
+    return (closest - from - t * (to - from)).norm() <= reach;
   };
   double best = -2.0;
   std::vector<int> walk{face};

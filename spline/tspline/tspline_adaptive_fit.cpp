@@ -83,8 +83,10 @@ std::vector<int> splitWithinBudget(const FitState& state, const std::vector<int>
                                    const TSplineAdaptiveFitOptions& options) {
   const std::size_t budget = std::size_t(
       std::max(0, (options.maxControlPoints - int(state.fit.controlPoints.rows())) / 5));
+  const std::vector<TSplineCapRegion> regions = capRegions(state.mesh);
   const auto closure = [&](std::size_t length) {
-    return withTouchedCapsSplit(state.mesh, {candidates.begin(), candidates.begin() + length});
+    return withTouchedCapsSplit(state.mesh, regions,
+                                {candidates.begin(), candidates.begin() + length});
   };
   std::size_t fitting = 0, over = candidates.size() + 1;
   while (over - fitting > 1) {

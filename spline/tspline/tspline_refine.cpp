@@ -367,13 +367,11 @@ class Reexpression {
 
 }  // namespace
 
-namespace {
-
-// `faces` and, for each cone whose region holds one of them or shares a side with one, its cells
-// within 2 of the cone (kCapCells - 1 a sector side: split, they hold the cap's 3 x 3 half
-// cells, with the T-junctions at 4), until no further region is touched.
-std::vector<int> closeOverRegions(const TMesh& mesh, const std::vector<TSplineCapRegion>& regions,
-                                  std::vector<int> faces) {
+// The cells within 2 of the cone, kCapCells - 1 a sector side: split, they hold the cap's 3 x 3
+// half cells, with the T-junctions at 4.
+std::vector<int> withTouchedCapsSplit(const TMesh& mesh,
+                                      const std::vector<TSplineCapRegion>& regions,
+                                      std::vector<int> faces) {
   std::vector<char> split(mesh.faces.size(), 0);
   for (int f : faces) split[std::size_t(f)] = 1;
   std::vector<char> closed(regions.size(), 0);
@@ -403,12 +401,6 @@ std::vector<int> closeOverRegions(const TMesh& mesh, const std::vector<TSplineCa
     }
   }
   return faces;
-}
-
-}  // namespace
-
-std::vector<int> withTouchedCapsSplit(const TMesh& mesh, std::vector<int> faces) {
-  return closeOverRegions(mesh, capRegions(mesh), std::move(faces));
 }
 
 void splitIntoFour(TMesh& mesh, const std::vector<int>& faces, std::vector<FacePoint>& points) {
@@ -535,7 +527,7 @@ int refineAroundCones(TMesh& mesh, std::vector<FacePoint>& points, int maxRounds
     // Faces within kCapCells - 1 cells of a cone without cap (rings of faces sharing a vertex:
     // split, they are 2 kCapCells - 2 half cells, and the T-junctions at their border lie beyond
     // the kCapCells a cap needs); the cones with caps keep them, the same cells split where
-    // touched (closeOverRegions).
+    // touched (withTouchedCapsSplit).
     std::vector<char> marked(mesh.faces.size(), 0);
     std::vector<TSplineCapRegion> regions;
     std::vector<int> ring;
@@ -564,7 +556,7 @@ int refineAroundCones(TMesh& mesh, std::vector<FacePoint>& points, int maxRounds
     for (int f = 0; f < mesh.numFaces(); ++f)
       if (marked[std::size_t(f)]) faces.push_back(f);
     if (faces.empty()) break;
-    faces = closeOverRegions(mesh, regions, std::move(faces));
+    faces = withTouchedCapsSplit(mesh, regions, std::move(faces));
     splitIntoFour(mesh, faces, points);
     split += int(faces.size());
   }

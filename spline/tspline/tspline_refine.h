@@ -18,6 +18,7 @@
 
 #include "mspline/spline/tspline/tmesh.h"
 #include "mspline/spline/tspline/tspline.h"
+#include "mspline/spline/tspline/tspline_cap.h"
 
 namespace mspline::spline {
 
@@ -34,9 +35,12 @@ TMesh splitFace(const TMesh& mesh, int face, int axis, double coordinate);
 /// The faces to split into four (each cut through its middle both ways) so that every cone keeps
 /// a cap (tspline_cap.h): `faces`, then for each cone whose region (its 3 x 3 cells a sector)
 /// holds one of them or shares a side with one, its cells within 2 of it, until no further region
-/// is touched. Split, those cells hold the cap at half the cell size. Throws SolverError when
-/// `mesh` has a cone without a cap already.
-std::vector<int> withTouchedCapsSplit(const TMesh& mesh, std::vector<int> faces);
+/// is touched. Split, those cells hold the cap at half the cell size. `regions` are `mesh`'s
+/// (capRegions, which throws SolverError when a cone has no cap), computed once by callers that
+/// try several sets of faces.
+std::vector<int> withTouchedCapsSplit(const TMesh& mesh,
+                                      const std::vector<TSplineCapRegion>& regions,
+                                      std::vector<int> faces);
 
 /// Splits each of `faces` (distinct) into four through its middle, giving the mesh that splitting
 /// them one after the other would (splitFace along x, then both halves along y), with one rebuild:

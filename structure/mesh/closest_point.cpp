@@ -19,16 +19,6 @@ namespace {
 
 using Eigen::Vector3d;
 
-// The closest point to p on segment [a, b], as the parameter t of a + t (b - a).
-double segmentParameter(const Vector3d& p, const Vector3d& a, const Vector3d& b) {
-  // A ratio of products of two lengths, on vectors scaled by a power of two (exact).
-  const double scale =
-      exactUnitScale(std::max((b - a).cwiseAbs().maxCoeff(), (p - a).cwiseAbs().maxCoeff()));
-  const Vector3d d = (b - a) * scale;
-  const double length2 = d.squaredNorm();
-  return length2 > 0.0 ? std::clamp(((p - a) * scale).dot(d) / length2, 0.0, 1.0) : 0.0;
-}
-
 // nanoflann's view of the centroid matrix.
 struct CentroidCloud {
   const Eigen::MatrixX3d* points = nullptr;
@@ -47,6 +37,15 @@ using CentroidTree =
                                         CentroidCloud, 3, std::uint32_t>;
 
 }  // namespace
+
+double segmentParameter(const Vector3d& p, const Vector3d& a, const Vector3d& b) {
+  // A ratio of products of two lengths, on vectors scaled by a power of two (exact).
+  const double scale =
+      exactUnitScale(std::max((b - a).cwiseAbs().maxCoeff(), (p - a).cwiseAbs().maxCoeff()));
+  const Vector3d d = (b - a) * scale;
+  const double length2 = d.squaredNorm();
+  return length2 > 0.0 ? std::clamp(((p - a) * scale).dot(d) / length2, 0.0, 1.0) : 0.0;
+}
 
 ClosestPoint closestPointOnTriangle(const Vector3d& p, const Vector3d& a, const Vector3d& b,
                                     const Vector3d& c) {

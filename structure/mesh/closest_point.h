@@ -28,6 +28,11 @@ struct ClosestPoint {
   Eigen::Vector3d closest = Eigen::Vector3d::Zero();
 };
 
+/// The closest point to p on segment [a, b], as the parameter t in [0, 1] of a + t (b - a) (0 when
+/// a = b).
+double segmentParameter(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                        const Eigen::Vector3d& b);
+
 /// The closest point to p on triangle (a, b, c), degenerate triangles included.
 ClosestPoint closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                                     const Eigen::Vector3d& b, const Eigen::Vector3d& c);

@@ -265,8 +265,8 @@ TEST_CASE("tspline caps: a T-junction in a cone's cap region is refused", "[spli
 TEST_CASE("tspline caps: refinement keeps caps, or makes them where cones are close", "[spline]") {
   // A face in a cap region: the cells within 2 of the cone (4 a sector) are split with it.
   const StarTMesh star = starTMesh(3);
-  const std::vector<int> faces =
-      spline::withTouchedCapsSplit(star.mesh, {star.face(1, 2, 1), star.face(2, 5, 5)});
+  const std::vector<int> faces = spline::withTouchedCapsSplit(
+      star.mesh, spline::capRegions(star.mesh), {star.face(1, 2, 1), star.face(2, 5, 5)});
   CHECK(faces.size() == 2 + 3 * 4);
   spline::TMesh mesh = star.mesh;
   std::vector<spline::FacePoint> points{{star.face(0, 0, 0), {0.75, 0.25}}};
@@ -284,7 +284,8 @@ TEST_CASE("tspline caps: refinement keeps caps, or makes them where cones are cl
   spline::splitIntoFour(broken, {star.face(0, 3, 0)}, points);
   CHECK_THROWS_AS(TSplineSpace(broken), structure::SolverError);
   spline::TMesh closed = star.mesh;
-  const std::vector<int> next = spline::withTouchedCapsSplit(closed, {star.face(0, 3, 0)});
+  const std::vector<int> next =
+      spline::withTouchedCapsSplit(closed, spline::capRegions(closed), {star.face(0, 3, 0)});
   CHECK(next.size() == 1 + 3 * 4);
   spline::splitIntoFour(closed, next, points);
   CHECK(TSplineSpace(closed).capFaces().size() == 3);
