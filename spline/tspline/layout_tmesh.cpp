@@ -16,6 +16,7 @@ using structure::LayoutRectangle;
 using structure::MotorcycleLayout;
 using structure::Quantization;
 using structure::QuantizeOptions;
+using structure::SegmentSum;
 
 namespace {
 
@@ -80,16 +81,14 @@ double cellPercentile(std::vector<std::pair<double, int>> values, double fractio
   return values.back().first;
 }
 
-// Why assembling the cells failed: a rectangle whose cells repeat a vertex that no collapse
-// joined (a cell around a segment that starts and ends at one node), sets of segments that may not
-// all collapse again (each undoes a chain of joins), or collapsed segments to give a cell again.
+// Why assembling the cells failed: sets of segments that need more cells in all (a chain of
+// collapses that may not all collapse again, or the sides of a rectangle whose cells repeat a
+// vertex that no collapse joined, as a 1 x 1 rectangle with one cone at opposite corners), or
+// collapsed segments to give a cell again.
 struct AssemblyFailure {
-  int repeatingRectangle = -1;
-  std::vector<std::vector<int>> separations;
+  std::vector<SegmentSum> separations;
   std::vector<int> uncollapse;
-  bool failed() const {
-    return repeatingRectangle >= 0 || !separations.empty() || !uncollapse.empty();
-  }
+  bool failed() const { return !separations.empty() || !uncollapse.empty(); }
 };
 
 // The joins of collapsed segments and rectangles, each with the segments whose cells would undo
@@ -212,7 +211,7 @@ AssemblyFailure assembleCells(const MotorcycleLayout& layout, LayoutTMesh& grid)
   for (std::size_t v = 0; v < nodes.size(); ++v) {
     if (nodes[v].vertex < 0) continue;
     int& cone = coneOfClass[std::size_t(classes.find(int(v)))];
-    if (cone >= 0) failure.separations.push_back(joins.separating(cone, int(v)));
+    if (cone >= 0) failure.separations.push_back({joins.separating(cone, int(v)), 1});
     cone = int(v);
   }
   if (!failure.separations.empty()) return failure;
@@ -235,18 +234,28 @@ AssemblyFailure assembleCells(const MotorcycleLayout& layout, LayoutTMesh& grid)
         face.vertices = {classes.find(vertexAt(i, j)), classes.find(vertexAt(i + 1, j)),
                          classes.find(vertexAt(i + 1, j + 1)), classes.find(vertexAt(i, j + 1))};
         face.positions = {{0.0, 0.0}, {1.0, 0.0}, {1.0, 1.0}, {0.0, 1.0}};
-        // A vertex repeated in a cell: the chain of joins that made it so may not collapse again.
+        // A vertex repeated in a cell: the chain of joins that made it so may not collapse again;
+        // without one, the rectangle needs more cells along the directions in which the two
+        // corners differ (one more in all: the cheapest way is the quantization's to choose).
         for (int a = 0; a < 4; ++a)
           for (int b = a + 1; b < 4; ++b)
             if (face.vertices[std::size_t(a)] == face.vertices[std::size_t(b)]) {
               const int corner[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-              const std::vector<int> chain =
+              std::vector<int> chain =
                   joins.separating(vertexAt(i + corner[a][0], j + corner[a][1]),
                                    vertexAt(i + corner[b][0], j + corner[b][1]));
-              if (chain.empty())
-                failure.repeatingRectangle = int(r);
-              else
-                failure.separations.push_back(chain);
+              if (!chain.empty()) {
+                failure.separations.push_back({std::move(chain), 1});
+                return failure;
+              }
+              SegmentSum wider;
+              for (int axis = 0; axis < 2; ++axis)
+                if (corner[a][axis] != corner[b][axis]) {
+                  for (int he : rectangles[r].sides[std::size_t(axis)])
+                    wider.segments.push_back(he / 2);
+                  wider.atLeast += axis == 0 ? cellsX : cellsY;
+                }
+              failure.separations.push_back(std::move(wider));
               return failure;
             }
         faces.push_back(std::move(face));
@@ -363,13 +372,6 @@ LayoutTMesh layoutTMesh(const MotorcycleLayout& layout, const LayoutTMeshOptions
         std::any_of(failure.uncollapse.begin(), failure.uncollapse.end(), longerThanSliver);
     for (int e : failure.uncollapse)
       if (!anyLonger || longerThanSliver(e)) collapsible[std::size_t(e)] = 0;
-    // Cells of that rectangle repeat a vertex: two cells at least along each of its segments.
-    if (failure.repeatingRectangle >= 0)
-      for (const auto& side : rectangles[std::size_t(failure.repeatingRectangle)].sides)
-        for (int he : side) {
-          required[std::size_t(he / 2)] = std::max(required[std::size_t(he / 2)] + 1, 2);
-          collapsible[std::size_t(he / 2)] = 0;
-        }
   }
   throw structure::SolverError("layout T-mesh: no valid grid after " +
                                std::to_string(grid.quantizations) + " quantizations");

@@ -87,18 +87,17 @@ Quantization quantizeSegments(const MotorcycleLayout& layout, const QuantizeOpti
       for (const auto& [s, c] : coefficients)
         if (c != 0.0) entry(row, 4 * s + 1, c);
     }
-  for (const std::vector<int>& separation : options.separations) {
-    std::vector<int> members = separation;
-    std::sort(members.begin(), members.end());
-    members.erase(std::unique(members.begin(), members.end()), members.end());
-    const int row = glp_add_rows(lp, 1);
-    glp_set_row_bnds(lp, row, GLP_LO, 1.0, 0.0);
-    for (int s : members) {
+  for (const SegmentSum& separation : options.separations) {
+    std::map<int, double> coefficients;
+    for (int s : separation.segments) {
       if (s < 0 || s >= n)
         throw InputError("quantize segments: a separation names segment " + std::to_string(s) +
                          " of " + std::to_string(n));
-      entry(row, 4 * s + 1, 1.0);
+      coefficients[s] += 1.0;
     }
+    const int row = glp_add_rows(lp, 1);
+    glp_set_row_bnds(lp, row, GLP_LO, double(separation.atLeast), 0.0);
+    for (const auto& [s, c] : coefficients) entry(row, 4 * s + 1, c);
   }
   glp_load_matrix(lp, int(value.size()) - 1, rowIndex.data(), columnIndex.data(), value.data());
 

@@ -2,8 +2,8 @@
 // Whole numbers of cells for the segments of a rectangle layout (structure/layout/
 // motorcycle_layout.h), the quantization of an integer-grid map: opposite sides of every rectangle
 // get the same number of cells, every segment at least its minimum (0 lets it collapse), every
-// separation set at least one cell in all, and the numbers are as close as possible to length /
-// cell size in relative terms (a cell's side stretched or shrunk on the surface),
+// separation set its least number of cells in all, and the numbers are as close as possible to
+// length / cell size in relative terms (a cell's side stretched or shrunk on the surface),
 //   minimize  sum_s |cells_s - t_s| / max(t_s, 0.01),   t_s = length_s / cell size,
 // so that a cell a separation or a minimum demands goes to the longest of the short segments that
 // can take it.
@@ -20,14 +20,22 @@
 
 namespace mspline::structure {
 
+/// Segments whose cells, summed, must reach `atLeast`.
+struct SegmentSum {
+  /// Indices of layout.segments(); one listed twice counts twice.
+  std::vector<int> segments;
+  int atLeast = 1;
+};
+
 struct QuantizeOptions {
   /// Target cell side in the layout's flat metric.
   double cellSize = 1.0;
   /// Per segment the fewest cells it may get; empty: one each.
   std::vector<int> minimumCells;
-  /// Sets of segments that may not all collapse: at least one cell in each set (a path of
-  /// collapsed segments that joined two cones, say).
-  std::vector<std::vector<int>> separations;
+  /// Sets of segments with a least number of cells in all: one where they may not all collapse
+  /// (a path of collapsed segments that joined two cones, say), more where fewer would make a
+  /// cell repeat a vertex.
+  std::vector<SegmentSum> separations;
   /// Time for the branch and cut (seconds): plain branching gets the first second of it, the MIP
   /// presolver with Gomory cuts the rest when that proved nothing; past it the best solution found
   /// is kept.

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 
+#include "mspline/spline/model/quad_layout_flattening.h"
 #include "mspline/spline/tspline/layout_tmesh.h"
 #include "mspline/spline/tspline/tspline.h"
 #include "mspline/spline/tspline/tspline_check.h"
@@ -330,4 +331,40 @@ TEST_CASE("layout_tmesh: femur.off, every quantization proven optimal", "[spline
     CHECK(grid.quantizationOptimal);
     checkOppositeSides(layout, grid);
   }
+}
+
+TEST_CASE("layout_tmesh: femur.off, one cone at opposite corners of a sliver", "[spline]") {
+  // The layout fit builds (valence-3 corners, cones three cells apart, 6,000 cells): a rectangle
+  // 0.6 by 0.05 cells has one cone at two opposite corners, so 1 x 1 cells would repeat it. Two
+  // cells along each side made cells 12 times longer than wide; one more cell in all, along the
+  // side the quantization picks, keeps them within 6.
+  spline::BuildSplineOptions build;
+  build.kind = spline::SpaceKind::TSpline;
+  build.control = 6000;
+  const structure::TriMesh mesh = test::realMesh("femur.off");
+  const spline::QuadLayoutFlattening quad = spline::quadLayoutFlattening(mesh, 3, build);
+  const structure::Flattening flattening = structure::flattenSurface(mesh, quad.options);
+  REQUIRE(flattening.converged);
+  const structure::MotorcycleLayout layout(flattening.surface(), flattening.flatLengths);
+  spline::LayoutTMeshOptions options;
+  options.cellSize = cellSizeFor(layout, 6000);
+  const spline::LayoutTMesh grid = spline::layoutTMesh(layout, options);
+  checkOppositeSides(layout, grid);
+  // Such rectangles get three cells at least, and the sliver no more.
+  int withThreeCells = 0;
+  for (std::size_t r = 0; r < layout.rectangles().size(); ++r) {
+    const auto& sides = layout.rectangles()[r].sides;
+    const auto startOf = [&](int side) {
+      const int he = sides[std::size_t(side)].front();
+      const auto& segment = layout.segments()[std::size_t(he / 2)];
+      return he % 2 == 0 ? segment.from : segment.to;
+    };
+    if (startOf(0) != startOf(2) && startOf(1) != startOf(3)) continue;
+    const int cells = grid.rectangleCells[r][0] + grid.rectangleCells[r][1];
+    CAPTURE(r);
+    CHECK(cells >= 3);
+    withThreeCells += cells == 3;
+  }
+  CHECK(withThreeCells >= 1);
+  CHECK(grid.maxAnisotropy <= 6.0);
 }

@@ -87,11 +87,17 @@ TEST_CASE("quantize_segments: segments far shorter than a cell still get their m
   for (std::size_t s = 0; s < options.minimumCells.size(); ++s)
     options.minimumCells[s] = s % 2 == 0 ? 2 : 0;
   // And a cell among segments 1, 3 and 5, which may collapse.
-  options.separations = {{1, 3, 5}};
+  options.separations = {{{1, 3, 5}, 1}};
   const Quantization q = structure::quantizeSegments(layout, options);
   checkValid(layout, q, options.minimumCells);
   CHECK(q.segmentCells[1] + q.segmentCells[3] + q.segmentCells[5] >= 1);
   CHECK(q.optimal);
+  // Three cells among them, segment 1 counted twice.
+  options.separations = {{{1, 1, 3, 5}, 3}};
+  const Quantization more = structure::quantizeSegments(layout, options);
+  checkValid(layout, more, options.minimumCells);
+  CHECK(2 * more.segmentCells[1] + more.segmentCells[3] + more.segmentCells[5] >= 3);
+  CHECK(more.deviation >= q.deviation - 1e-12);
 }
 
 TEST_CASE("quantize_segments: bad options are refused", "[structure]") {
