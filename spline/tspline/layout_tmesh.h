@@ -75,8 +75,8 @@ struct LayoutTMesh {
 
 /// A rectangle whose cells would repeat a vertex gets one more cell along the directions in which
 /// the two corners differ (in all: a 1 x 1 rectangle with one cone at opposite corners becomes
-/// 2 x 1 or 1 x 2, whichever stretches its cells less), a collapse that fails is undone. Throws
-/// SolverError when no valid grid is found.
+/// 2 x 1 or 1 x 2, whichever the quantization's deviation from the segments' lengths prefers), a
+/// collapse that fails is undone. Throws SolverError when no valid grid is found.
 LayoutTMesh layoutTMesh(const structure::MotorcycleLayout& layout,
                         const LayoutTMeshOptions& options = {});
 
